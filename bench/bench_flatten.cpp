@@ -1,0 +1,2 @@
+// placeholder while the stage is written
+int main() { return 0; }

@@ -1,0 +1,40 @@
+// The problem of placing one flat patch into 3D: the flattened strip and the
+// flat patch glued along the hole loop, with the strip held at its 3D position.
+#pragma once
+
+#include <vector>
+
+#include "foldfill/flatten.h"
+#include "foldfill/mesh.h"
+#include "foldfill/triangulate.h"
+
+namespace foldfill {
+
+// Vertices [0, fixed_count) are the strip's (the loop first, in loop order,
+// then the one-ring), fixed at `fixed_positions`; vertices [fixed_count, n) are
+// the patch's interior vertices, the unknowns. Faces [0, strip_face_count) are
+// the strip's, the rest the patch's. All faces are counter-clockwise in
+// `rest_uv`, the common flat rest state.
+//
+// Lengths are normalised: 3D positions are (p - origin) / length_scale, with
+// length_scale the mean edge length of the hole loop, so that every option
+// means the same on a mesh in millimetres and one in metres.
+struct EmbedDomain {
+  std::vector<Vec2> rest_uv;          // flat rest state, normalised
+  std::vector<Tri> faces;
+  std::vector<Vec3> fixed_positions;  // normalised 3D positions of the strip vertices
+  int fixed_count = 0;
+  int loop_size = 0;
+  int strip_face_count = 0;
+  Vec3 origin{};
+  double length_scale = 1;
+
+  int vertex_count() const { return static_cast<int>(rest_uv.size()); }
+  int free_count() const { return vertex_count() - fixed_count; }
+};
+
+// Glues `patch` (whose boundary vertices are the loop, in loop order) to the
+// flattened strip and normalises.
+EmbedDomain make_embed_domain(const Strip& strip, const Flattening& flat, const FlatPatch& patch);
+
+}  // namespace foldfill

@@ -1,0 +1,68 @@
+// The fabric energy of section 3.3-3.4 of Gisbert et al. 2023 over an
+// EmbedDomain: isometric edge springs, quadratic bending (Bergou et al. 2006)
+// or two-ring springs, and soft vertex repulsion.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "foldfill/domain.h"
+
+namespace foldfill {
+
+enum class BendingModel { Quadratic, TwoRing };
+
+// Weights are for the normalised domain (unit = mean loop edge length).
+struct EnergyOptions {
+  double lambda = 0.03;       // bending weight relative to the isometric term
+  BendingModel bending = BendingModel::Quadratic;
+  double repulsion = 0.1;     // kappa, relative to the isometric term
+  double repulsion_radius = 1 / 1.3;  // r_i = shortest incident rest edge * this
+};
+
+struct EnergyTerms {
+  double isometric = 0;  // 1/2 sum (|e| - l)^2 over edges with a free end
+  double bending = 0;    // lambda-free bending energy (quadratic or two-ring)
+  double repulsion = 0;  // kappa-free repulsion energy
+  double total = 0;      // isometric + lambda * bending + kappa * repulsion
+};
+
+// Precomputes everything that does not change during the minimisation (rest
+// lengths, the constant bending Hessian, repulsion radii). Variables are the
+// free vertices' positions, a vector of 3 * free_count (x, y, z interleaved).
+class FabricEnergy {
+ public:
+  FabricEnergy(const EmbedDomain& domain, const EnergyOptions& options);
+
+  // Energy at `x`; adds nothing to and fills `gradient` when non-null.
+  EnergyTerms evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient = nullptr) const;
+
+  // Full domain positions from the free variables.
+  std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
+  // Free variables from full domain positions.
+  Eigen::VectorXd variables(const std::vector<Vec3>& positions) const;
+
+  const EmbedDomain& domain() const { return domain_; }
+  const EnergyOptions& options() const { return options_; }
+
+  // Springs with at least one free end: (i, j, rest length), domain indices.
+  struct Spring {
+    int i, j;
+    double rest_length;
+  };
+  const std::vector<Spring>& springs() const { return springs_; }
+  // Constant bending Hessian over all domain vertices (per coordinate) for the
+  // quadratic model, empty for two-ring.
+  const Eigen::SparseMatrix<double>& bending_hessian() const { return bending_hessian_; }
+
+ private:
+  EmbedDomain domain_;
+  EnergyOptions options_;
+  std::vector<Spring> springs_;          // isometric edges
+  std::vector<Spring> two_ring_springs_;  // bending springs of the two-ring model
+  Eigen::SparseMatrix<double> bending_hessian_;
+  std::vector<double> repulsion_radius_;  // per domain vertex
+};
+
+}  // namespace foldfill

@@ -1,0 +1,50 @@
+// Exactly developable meshes generated in code, with their flat coordinates:
+// the built-in demo and the ground truth of many tests.
+#pragma once
+
+#include <vector>
+
+#include "foldfill/mesh.h"
+
+namespace foldfill {
+
+// A mesh together with the flat (developed) position of every vertex: the map
+// from `flat` to `mesh.positions` is an isometry.
+struct DevelopableMesh {
+  Mesh mesh;
+  std::vector<Vec2> flat;
+};
+
+// A rectangle of `width` x `height` (flat), triangulated on a regular grid with
+// about `edge_length` spacing, bent along rulings parallel to the flat y axis
+// so that its cross-section is z = amplitude * sin(2 pi folds x / width'):
+// `folds` sinusoidal folds across the width. Exactly developable.
+struct FoldedSheetOptions {
+  double width = 4, height = 3, edge_length = 0.05;
+  double amplitude = 0.25;
+  int folds = 3;
+};
+DevelopableMesh make_folded_sheet(const FoldedSheetOptions& options = {});
+
+// A section of a cylinder of `radius`, spanning `angle` radians and `height`.
+DevelopableMesh make_cylinder_section(double radius, double angle, double height,
+                                      double edge_length);
+
+// A section of a cone with apex at the origin, axis z, half-angle
+// `half_angle`, between distances r0 < r1 from the apex along the surface,
+// spanning `angle` radians around the axis.
+DevelopableMesh make_cone_section(double half_angle, double r0, double r1, double angle,
+                                  double edge_length);
+
+// Removes the faces whose flat centroid lies within `radius` of `center`
+// (flat coordinates), and more faces where needed so that the hole's boundary
+// is a simple loop; unreferenced vertices are dropped and the rest keep their
+// relative order. Returns the cut mesh and the flat area removed.
+struct CutMesh {
+  DevelopableMesh cut;
+  double removed_area = 0;  // flat area of the removed faces
+  int removed_faces = 0;
+};
+CutMesh cut_disk_hole(const DevelopableMesh& input, Vec2 center, double radius);
+
+}  // namespace foldfill

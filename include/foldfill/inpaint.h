@@ -1,0 +1,75 @@
+// The whole fill: per selected hole, flatten -> triangulate -> embed (ARAP,
+// then energy minimisation) -> stitch.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "foldfill/arap.h"
+#include "foldfill/energy.h"
+#include "foldfill/holes.h"
+#include "foldfill/mesh.h"
+#include "foldfill/obstacles.h"
+#include "foldfill/solver.h"
+#include "foldfill/triangulate.h"
+
+namespace foldfill {
+
+struct FillOptions {
+  TriangulateOptions triangulate;
+  ArapOptions arap;
+  EnergyOptions energy;
+  SolverOptions solver;
+  std::vector<Obstacle> obstacles;  // in the mesh's units
+  bool keep_flat = false;           // keep the flat strip and patch in the report
+  // Called per hole and iteration with (loop id, progress); false cancels.
+  std::function<bool(int, const SolverProgress&)> progress;
+};
+
+struct StageSeconds {
+  double flatten = 0, triangulate = 0, arap = 0, optimize = 0, total = 0;
+};
+
+struct HoleReport {
+  int loop_id = 0;
+  bool filled = false;
+  std::string reason;  // why it was not filled
+  int loop_vertex_count = 0;
+  int patch_vertex_count = 0;  // new (interior) vertices
+  int patch_face_count = 0;
+  int iterations = 0;
+  std::string stop_reason;
+  StageSeconds seconds;
+  Flattening flattening_fit;  // uv left empty
+  double min_angle_deg = 0, share_below_20deg = 0;
+  EnergyTerms energy_after_arap, energy_final;
+  double gaussian_mean_abs_after_arap = 0, gaussian_variance_after_arap = 0;
+  double gaussian_mean_abs_final = 0, gaussian_variance_final = 0;
+  double edge_length_rms_rel_after_arap = 0, edge_length_rms_rel_final = 0;
+  int self_intersections = 0;
+  double flat_area = 0;            // area of the flat patch (mesh units)
+  double area_ratio_to_flat = 0;   // 3D patch area / flat patch area
+  double length_scale = 0;         // the hole's unit (mean loop edge length)
+  Mesh flat_strip, flat_patch;     // z = 0; only with FillOptions::keep_flat
+};
+
+struct FillReport {
+  std::vector<HoleReport> holes;
+  double seconds_total = 0;
+};
+
+struct FillResult {
+  Mesh mesh;  // the input with new vertices and faces appended
+  FillReport report;
+};
+
+// Fills the loops `fill_ids` of `loops` (from find_boundary_loops(mesh)).
+// Holes are independent and filled in parallel; the result does not depend on
+// the thread count. A hole that cannot be filled is left open and reported
+// with its reason; `mesh`'s own vertices and faces are copied unchanged.
+FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                      const std::vector<int>& fill_ids, const FillOptions& options = {},
+                      const std::string& source = "mesh");
+
+}  // namespace foldfill

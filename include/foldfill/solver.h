@@ -1,0 +1,46 @@
+// Minimisation of the fabric energy.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "foldfill/energy.h"
+#include "foldfill/obstacles.h"
+
+namespace foldfill {
+
+enum class SolverKind {
+  GradientDescent,  // the paper's fixed-step descent, kept for reference
+  Fast,             // the default (see solver.cpp for the method)
+};
+
+struct SolverProgress {
+  int iteration = 0;
+  double energy = 0;
+  double gradient_norm = 0;
+};
+
+struct SolverOptions {
+  SolverKind kind = SolverKind::Fast;
+  int max_iterations = 20000;
+  double step = 0.05;                 // gradient descent: fixed step (normalised units)
+  double relative_energy_tol = 1e-9;  // stop when |dE| / E falls below this ...
+  double gradient_tol = 1e-6;         // ... or the RMS gradient per vertex falls below this
+  double time_limit_seconds = 0;      // 0: none
+  // Called every iteration; returning false cancels (the best state is kept).
+  std::function<bool(const SolverProgress&)> progress;
+};
+
+struct SolverResult {
+  std::vector<Vec3> positions;  // all domain vertices, normalised
+  int iterations = 0;
+  std::string stop_reason;      // "converged", "max_iterations", "time_limit", "cancelled", "diverged"
+};
+
+// Minimises `energy` from `start` (all domain vertices), keeping free vertices
+// outside `obstacles` (in normalised coordinates) by projection.
+SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles,
+                             const std::vector<Vec3>& start, const SolverOptions& options = {});
+
+}  // namespace foldfill

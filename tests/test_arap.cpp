@@ -1,0 +1,2 @@
+// placeholder while the stage is written
+#include <gtest/gtest.h>

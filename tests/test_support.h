@@ -1,0 +1,35 @@
+// Helpers shared by the tests: where the optional shared data lives, and
+// scratch folders.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace foldfill::testing {
+
+// The shared data folder (FOLDFILL_SHARED overrides the build-time default),
+// or an empty path when it is absent.
+inline std::filesystem::path shared_dir() {
+  const char* env = std::getenv("FOLDFILL_SHARED");
+  std::filesystem::path dir = env ? env : FOLDFILL_SHARED_DIR;
+  return std::filesystem::is_directory(dir / "data") ? dir : std::filesystem::path();
+}
+
+// A fresh, empty scratch folder for one test.
+inline std::filesystem::path scratch_dir(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("foldfill_test_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace foldfill::testing
+
+// Skips the current test with a clear message when ../shared is not there.
+#define FOLDFILL_REQUIRE_SHARED()                                                        \
+  if (foldfill::testing::shared_dir().empty())                                          \
+  GTEST_SKIP() << "shared data not found (looked in FOLDFILL_SHARED and " FOLDFILL_SHARED_DIR \
+                  "); this test needs ../shared/data"
