@@ -1,1 +1,385 @@
-// placeholder while the stage is written
+// The strip around a hole and its LSCM flattening (see flatten.h). The strip
+// is checked to be a topological annulus with the loop as one boundary, the
+// only shape on which the flattened inner boundary is a meaningful outline of
+// the hole. LSCM is solved on the normal equations of the real least-squares
+// form with a sparse Cholesky (LDLT) factorisation: strips have a few
+// thousand vertices and, on developable input, an exact zero-energy solution,
+// so the squared condition number costs no useful accuracy.
+#include "foldfill/flatten.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2_algorithms.h>
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "foldfill/error.h"
+#include "foldfill/topology.h"
+
+namespace foldfill {
+namespace {
+
+// A flattened triangle counts as degenerate (with the flipped ones) when its
+// smallest height is below this fraction of its longest edge: its rest shape
+// would be useless to every energy downstream.
+constexpr double kDegenerateHeight = 1e-8;
+// 3D triangles thinner than this (same measure) carry no conformal
+// information; they are left out of the LSCM energy.
+constexpr double kZeroAreaHeight = 1e-12;
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec2 sub(const Vec2& a, const Vec2& b) { return {a[0] - b[0], a[1] - b[1]}; }
+double norm(const Vec2& a) { return std::hypot(a[0], a[1]); }
+double cross(const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; }
+
+// Interior angle at corner `a` of triangle (a, b, c), accurate for slivers.
+double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u = sub(b, a), v = sub(c, a);
+  return std::atan2(norm(cross(u, v)), dot(u, v));
+}
+double corner_angle(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const Vec2 u = sub(b, a), v = sub(c, a);
+  return std::atan2(std::abs(cross(u, v)), u[0] * v[0] + u[1] * v[1]);
+}
+
+// ---- Strip extraction and its topology check -------------------------------
+
+// Corners of the strip's faces joined across shared edges: the corners of
+// one vertex that end up in one set form one fan of faces around it.
+class CornerSets {
+ public:
+  explicit CornerSets(int corner_count) : parent_(corner_count) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  int find(int c) {
+    while (parent_[c] != c) c = parent_[c] = parent_[parent_[c]];
+    return c;
+  }
+  void join(int a, int b) { parent_[find(a)] = find(b); }
+
+ private:
+  std::vector<int> parent_;
+};
+
+int corner_of(const std::vector<Tri>& faces, int face, int vertex) {
+  const Tri& f = faces[face];
+  return 3 * face + (f[0] == vertex ? 0 : f[1] == vertex ? 1 : 2);
+}
+
+// Number of fans (groups of faces joined by edges) around each vertex.
+std::vector<int> fan_counts(const std::vector<Tri>& faces, int vertex_count,
+                            const EdgeTopology& topology) {
+  CornerSets corners(3 * static_cast<int>(faces.size()));
+  for (const Edge& e : topology.edges) {
+    if (e.is_boundary()) continue;
+    for (int v : {e.v0, e.v1})
+      corners.join(corner_of(faces, e.face[0], v), corner_of(faces, e.face[1], v));
+  }
+  std::vector<int> fans(vertex_count, 0);
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (corners.find(3 * f + k) == 3 * f + k) ++fans[faces[f][k]];
+  return fans;
+}
+
+// Number of closed chains of boundary edges, given that every vertex has one
+// fan (so a boundary vertex has exactly one boundary edge out and one in).
+int boundary_loop_count(int vertex_count, const EdgeTopology& topology) {
+  std::vector<int> next(vertex_count, -1);
+  for (const Edge& e : topology.edges) {
+    if (!e.is_boundary()) continue;
+    // Follow the faces' own direction; any consistent direction will do.
+    if (e.face[0] >= 0)
+      next[e.v0] = e.v1;
+    else
+      next[e.v1] = e.v0;
+  }
+  int loops = 0;
+  std::vector<bool> seen(vertex_count, false);
+  for (int start = 0; start < vertex_count; ++start) {
+    if (next[start] < 0 || seen[start]) continue;
+    ++loops;
+    for (int v = start; v >= 0 && !seen[v]; v = next[v]) seen[v] = true;
+  }
+  return loops;
+}
+
+const Edge* find_edge(const EdgeTopology& topology, int a, int b) {
+  const int v0 = std::min(a, b), v1 = std::max(a, b);
+  const auto it =
+      std::lower_bound(topology.edges.begin(), topology.edges.end(), std::make_pair(v0, v1),
+                       [](const Edge& e, const std::pair<int, int>& key) {
+                         return std::make_pair(e.v0, e.v1) < key;
+                       });
+  return it != topology.edges.end() && it->v0 == v0 && it->v1 == v1 ? &*it : nullptr;
+}
+
+// Throws `not_a_disk(reason)` unless the strip is a topological annulus
+// whose inner boundary is the loop.
+template <class NotADisk>
+void check_annulus(const Strip& strip, const std::string& source, const NotADisk& not_a_disk) {
+  const int vertex_count = static_cast<int>(strip.positions.size());
+  EdgeTopology topology;
+  try {
+    topology = build_edge_topology(strip.faces, vertex_count, source);
+  } catch (const Error& error) {
+    // Its message names strip-local indices; the mesh's are what the user has.
+    const Error refusal =
+        not_a_disk("the faces around it are not a consistently oriented manifold");
+    throw Error(error.kind(), refusal.what());
+  }
+
+  for (int k = 0; k < strip.loop_size; ++k) {
+    const Edge* e = find_edge(topology, k, (k + 1) % strip.loop_size);
+    if (!e || !e->is_boundary())
+      throw not_a_disk("its edge (" + std::to_string(strip.to_input[k]) + ", " +
+                       std::to_string(strip.to_input[(k + 1) % strip.loop_size]) +
+                       ") is not a boundary edge of the mesh");
+  }
+
+  const std::vector<int> fans = fan_counts(strip.faces, vertex_count, topology);
+  for (int v = 0; v < vertex_count; ++v) {
+    if (fans[v] <= 1) continue;
+    const std::string vertex = std::to_string(strip.to_input[v]);
+    if (v < strip.loop_size) throw not_a_disk("touches another boundary at vertex " + vertex);
+    throw not_a_disk("the faces around it pinch at vertex " + vertex +
+                     " (the hole comes back within one edge of itself there)");
+  }
+
+  const int euler =
+      vertex_count - static_cast<int>(topology.edges.size()) + static_cast<int>(strip.faces.size());
+  const int boundaries = boundary_loop_count(vertex_count, topology);
+  if (euler != 0 || boundaries != 2)
+    throw not_a_disk("the faces around it are not an annulus (" + std::to_string(boundaries) +
+                     " boundary loops, Euler characteristic " + std::to_string(euler) +
+                     "), so the hole is not a disk surrounded by surface");
+}
+
+// ---- LSCM -------------------------------------------------------------------
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplet = Eigen::Triplet<double>;
+
+// Coordinates of a 3D triangle in its own plane, counter-clockwise: corner 0
+// at the origin, corner 1 on the x axis.
+std::array<Vec2, 3> local_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  const Vec3 e1 = sub(p1, p0), e2 = sub(p2, p0);
+  const double l1 = norm(e1);
+  const double x2 = dot(e1, e2) / l1;
+  const double y2 = norm(cross(e1, e2)) / l1;
+  return {Vec2{0, 0}, Vec2{l1, 0}, Vec2{x2, y2}};
+}
+
+// LSCM (Lévy et al. 2002) in real form. In a triangle of area A with local
+// corners q_j and edges e_j = q_{j+2} - q_{j+1}, a linear map (u, v) is
+// conformal when rot90(grad u) = grad v; the residual
+//   rot90(grad u) - grad v = -sum_j (u_j e_j + v_j rot90(e_j)) / (2A)
+// gives two rows per triangle, weighted by sqrt(A). Unknowns are interleaved
+// (u_i at 2i, v_i at 2i + 1); strip vertices 0 and 1 are pinned.
+std::vector<Vec2> solve_lscm(const Strip& strip, const std::string& source) {
+  const int vertex_count = static_cast<int>(strip.positions.size());
+  const double pin_distance = norm(sub(strip.positions[1], strip.positions[0]));
+  const double pinned[4] = {0, 0, pin_distance, 0};  // u0, v0, u1, v1
+
+  // Free unknown of each variable, -1 for the pinned ones.
+  const int free_count = 2 * vertex_count - 4;
+  const auto free_index = [](int variable) { return variable < 4 ? -1 : variable - 4; };
+
+  std::vector<Triplet> entries;
+  entries.reserve(strip.faces.size() * 12);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(strip.faces.size()));
+  int row = 0;
+  for (const Tri& f : strip.faces) {
+    const auto q = local_frame(strip.positions[f[0]], strip.positions[f[1]], strip.positions[f[2]]);
+    const double twice_area = q[1][0] * q[2][1];
+    const double longest = std::max({q[1][0], norm(q[2]), norm(sub(q[2], q[1]))});
+    if (!(twice_area > kZeroAreaHeight * longest * longest)) continue;
+    const double weight = 1 / std::sqrt(2 * twice_area);  // sqrt(A) / (2A)
+    for (int j = 0; j < 3; ++j) {
+      const Vec2 e = sub(q[(j + 2) % 3], q[(j + 1) % 3]);
+      // Row x: -u_j e_x + v_j e_y; row y: -u_j e_y - v_j e_x.
+      const double coefficients[2][2] = {{-e[0], e[1]}, {-e[1], -e[0]}};
+      for (int r = 0; r < 2; ++r)
+        for (int c = 0; c < 2; ++c) {
+          const int variable = 2 * f[j] + c;
+          const double value = weight * coefficients[r][c];
+          if (free_index(variable) >= 0)
+            entries.emplace_back(row + r, free_index(variable), value);
+          else
+            rhs[row + r] -= value * pinned[variable];
+        }
+    }
+    row += 2;
+  }
+  SparseMatrix system(row, free_count);
+  system.setFromTriplets(entries.begin(), entries.end());
+  const SparseMatrix normal = SparseMatrix(system.transpose() * system);
+  Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
+  Eigen::VectorXd solution;
+  if (solver.info() == Eigen::Success) solution = solver.solve(system.transpose() * rhs.head(row));
+  if (solver.info() != Eigen::Success || !solution.allFinite())
+    throw Error(ErrorKind::FillFailed, source + ": the flattening (LSCM) system of the strip " +
+                                           "is singular; its triangles may be degenerate");
+
+  std::vector<Vec2> uv(vertex_count);
+  uv[0] = {pinned[0], pinned[1]};
+  uv[1] = {pinned[2], pinned[3]};
+  for (int v = 2; v < vertex_count; ++v)
+    uv[v] = {solution[free_index(2 * v)], solution[free_index(2 * v + 1)]};
+  return uv;
+}
+
+double twice_signed_area(const std::vector<Vec2>& uv, const Tri& f) {
+  return cross(sub(uv[f[1]], uv[f[0]]), sub(uv[f[2]], uv[f[0]]));
+}
+
+// Mirrors v when the strip came out clockwise as a whole.
+void make_counter_clockwise(const Strip& strip, std::vector<Vec2>& uv) {
+  double total = 0;
+  for (const Tri& f : strip.faces) total += twice_signed_area(uv, f);
+  if (total < 0)
+    for (Vec2& p : uv) p[1] = -p[1];
+}
+
+int count_flipped(const Strip& strip, const std::vector<Vec2>& uv) {
+  int flipped = 0;
+  for (const Tri& f : strip.faces) {
+    const double longest = std::max({norm(sub(uv[f[1]], uv[f[0]])), norm(sub(uv[f[2]], uv[f[1]])),
+                                     norm(sub(uv[f[0]], uv[f[2]]))});
+    flipped += !(twice_signed_area(uv, f) > kDegenerateHeight * longest * longest);
+  }
+  return flipped;
+}
+
+// Loop edge lengths and the strip's angle sums at the loop vertices, 2D
+// against 3D.
+void measure_fit(const Strip& strip, Flattening& flat) {
+  const int n = strip.loop_size;
+  double length_sum2 = 0;
+  for (int k = 0; k < n; ++k) {
+    const int a = k, b = (k + 1) % n;
+    const double length3 = norm(sub(strip.positions[b], strip.positions[a]));
+    const double error = std::abs(norm(sub(flat.uv[b], flat.uv[a])) - length3) / length3;
+    length_sum2 += error * error;
+    flat.edge_length_max_rel = std::max(flat.edge_length_max_rel, error);
+  }
+  flat.edge_length_rms_rel = std::sqrt(length_sum2 / n);
+
+  std::vector<double> angle3(n, 0), angle2(n, 0);
+  for (const Tri& f : strip.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int v = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
+      if (v >= n) continue;
+      angle3[v] += corner_angle(strip.positions[v], strip.positions[b], strip.positions[c]);
+      angle2[v] += corner_angle(flat.uv[v], flat.uv[b], flat.uv[c]);
+    }
+  double angle_sum2 = 0;
+  for (int v = 0; v < n; ++v) {
+    const double error = std::abs(angle2[v] - angle3[v]);
+    angle_sum2 += error * error;
+    flat.angle_sum_max = std::max(flat.angle_sum_max, error);
+  }
+  flat.angle_sum_rms = std::sqrt(angle_sum2 / n);
+}
+
+// Whether the polygon is simple, decided with exact predicates (a sweep).
+bool is_simple(const std::vector<Vec2>& polygon) {
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<Kernel::Point_2> points;
+  points.reserve(polygon.size());
+  for (const Vec2& p : polygon) points.emplace_back(p[0], p[1]);
+  return CGAL::is_simple_2(points.begin(), points.end(), Kernel());
+}
+
+}  // namespace
+
+Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::string& source) {
+  const auto not_a_disk = [&](const std::string& reason) {
+    return Error(ErrorKind::NotADisk, source + ": loop " + std::to_string(loop.id) + ": " + reason);
+  };
+  if (!loop.is_disk)
+    throw not_a_disk(loop.reason.empty() ? "it is not the boundary of a disk" : loop.reason);
+  const int loop_size = static_cast<int>(loop.vertices.size());
+  if (loop_size < 3)
+    throw not_a_disk("it has " + std::to_string(loop_size) + " vertices, at least 3 are needed");
+
+  // Local numbering: loop vertices first, then the others in order of first
+  // appearance in the strip's faces, taken in input order.
+  std::vector<int> local(mesh.vertex_count(), -1);
+  Strip strip;
+  strip.loop_size = loop_size;
+  for (int k = 0; k < loop_size; ++k) {
+    const int v = loop.vertices[k];
+    if (v < 0 || v >= mesh.vertex_count())
+      throw not_a_disk("vertex index " + std::to_string(v) + " is out of range");
+    if (local[v] >= 0) throw not_a_disk("it passes vertex " + std::to_string(v) + " twice");
+    local[v] = k;
+    strip.to_input.push_back(v);
+  }
+  const auto on_loop = [&](int v) { return local[v] >= 0 && local[v] < loop_size; };
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const Tri& face = mesh.faces[f];
+    for (int v : face)
+      if (v < 0 || v >= mesh.vertex_count())
+        throw Error(ErrorKind::BadFace, source + ": face " + std::to_string(f) +
+                                            " has vertex index " + std::to_string(v) +
+                                            " out of range");
+    if (!on_loop(face[0]) && !on_loop(face[1]) && !on_loop(face[2])) continue;
+    Tri strip_face{};
+    for (int k = 0; k < 3; ++k) {
+      int& v = local[face[k]];
+      if (v < 0) {
+        v = static_cast<int>(strip.to_input.size());
+        strip.to_input.push_back(face[k]);
+      }
+      strip_face[k] = v;
+    }
+    strip.faces.push_back(strip_face);
+    strip.input_faces.push_back(f);
+  }
+  strip.positions.reserve(strip.to_input.size());
+  for (int v : strip.to_input) strip.positions.push_back(mesh.positions[v]);
+
+  check_annulus(strip, source, not_a_disk);
+  return strip;
+}
+
+Flattening flatten_strip(const Strip& strip, const std::string& source) {
+  if (strip.loop_size < 3 || strip.positions.size() < static_cast<size_t>(strip.loop_size) ||
+      strip.faces.empty())
+    throw Error(ErrorKind::Internal, source + ": flatten_strip was given an empty strip");
+  Flattening flat;
+  flat.uv = solve_lscm(strip, source);
+  make_counter_clockwise(strip, flat.uv);
+  measure_fit(strip, flat);
+  flat.flipped_triangles = count_flipped(strip, flat.uv);
+  flat.simple_polygon = is_simple(hole_polygon(strip, flat));
+  if (flat.flipped_triangles > 0)
+    throw Error(ErrorKind::FillFailed, source + ": flattening has " +
+                                           std::to_string(flat.flipped_triangles) +
+                                           " flipped or degenerate triangles (of " +
+                                           std::to_string(strip.faces.size()) + " in the strip)");
+  if (!flat.simple_polygon)
+    throw Error(ErrorKind::FillFailed, source + ": the flattened hole outline crosses itself");
+  return flat;
+}
+
+std::vector<Vec2> hole_polygon(const Strip& strip, const Flattening& flat) {
+  if (flat.uv.size() < static_cast<size_t>(strip.loop_size))
+    throw Error(ErrorKind::Internal, "hole_polygon: the flattening is not the strip's");
+  return std::vector<Vec2>(flat.uv.begin(), flat.uv.begin() + strip.loop_size);
+}
+
+}  // namespace foldfill

@@ -1,1 +1,204 @@
-// placeholder while the stage is written
+// STL, ASCII or binary (80-byte header, uint32 facet count, 50 bytes per
+// facet). STL is a float32 format by nature: positions are read as float32 and
+// written as float32, so only float32-representable positions round-trip.
+// Facets carry their own corners; corners with bit-identical positions are
+// welded into one vertex, vertices numbered by first occurrence.
+#include <cmath>
+
+#include "io_detail.h"
+
+namespace foldfill::io_detail {
+namespace {
+
+using StlPoint = std::array<float, 3>;
+
+constexpr size_t kHeaderBytes = 80;
+constexpr size_t kFacetBytes = 50;  // normal, 3 corners (12 floats), uint16 attribute
+
+uint64_t mix_bits(uint64_t bits) {
+  bits ^= bits >> 33;
+  bits *= 0xff51afd7ed558ccdULL;
+  bits ^= bits >> 33;
+  return bits;
+}
+
+uint64_t hash_point(const StlPoint& point) {
+  uint32_t bits[3];
+  std::memcpy(bits, point.data(), sizeof(bits));
+  return mix_bits((uint64_t{bits[0]} << 32 | bits[1]) ^ mix_bits(bits[2]));
+}
+
+bool same_bits(const StlPoint& a, const StlPoint& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(StlPoint)) == 0;
+}
+
+// Welds `corners` (three per facet) by an open-addressing table over their bits.
+ParsedMesh weld(const std::vector<StlPoint>& corners, std::vector<int> face_lines) {
+  ParsedMesh parsed;
+  parsed.face_lines = std::move(face_lines);
+  size_t capacity = 16;
+  while (capacity < 2 * corners.size()) capacity *= 2;
+  std::vector<int> slots(capacity, -1);  // vertex index, or -1 when free
+  std::vector<size_t> first_corner;      // of each vertex
+  std::vector<int> corner_vertex(corners.size());
+  for (size_t c = 0; c < corners.size(); ++c) {
+    size_t slot = hash_point(corners[c]) & (capacity - 1);
+    while (slots[slot] >= 0 && !same_bits(corners[first_corner[slots[slot]]], corners[c])) {
+      slot = (slot + 1) & (capacity - 1);
+    }
+    if (slots[slot] < 0) {
+      slots[slot] = static_cast<int>(first_corner.size());
+      first_corner.push_back(c);
+      const StlPoint& p = corners[c];
+      parsed.mesh.positions.push_back({p[0], p[1], p[2]});
+    }
+    corner_vertex[c] = slots[slot];
+  }
+  parsed.mesh.faces.resize(corners.size() / 3);
+  for (size_t f = 0; f < parsed.mesh.faces.size(); ++f) {
+    parsed.mesh.faces[f] = {corner_vertex[3 * f], corner_vertex[3 * f + 1],
+                            corner_vertex[3 * f + 2]};
+  }
+  return parsed;
+}
+
+// The facet count of a binary STL when `bytes` has exactly the size it implies.
+bool is_binary_stl(std::string_view bytes, uint64_t& facet_count) {
+  if (bytes.size() < kHeaderBytes + 4) return false;
+  uint32_t count;
+  std::memcpy(&count, bytes.data() + kHeaderBytes, 4);
+  facet_count = kHostLittleEndian ? count : byte_swapped(count);
+  return bytes.size() == kHeaderBytes + 4 + kFacetBytes * facet_count;
+}
+
+ParsedMesh parse_binary(std::string_view bytes, uint64_t facet_count, const std::string& source) {
+  if (facet_count > INT_MAX / 3) fail(ErrorKind::BadFormat, source, "too many STL facets");
+  ByteCursor cursor(bytes, source, true);
+  cursor.skip(kHeaderBytes + 4);
+  std::vector<StlPoint> corners(3 * facet_count);
+  for (size_t c = 0; c < corners.size(); c += 3) {
+    cursor.skip(3 * sizeof(float));  // the stored normal, recomputed on writing
+    for (size_t k = 0; k < 3; ++k) {
+      for (float& coordinate : corners[c + k]) coordinate = cursor.read<float>();
+    }
+    cursor.skip(2);  // attribute byte count
+  }
+  return weld(corners, {});
+}
+
+// `facet normal nx ny nz outer loop vertex x y z (x3) endloop endfacet`, after `facet`.
+void read_ascii_facet(TextCursor& cursor, std::vector<StlPoint>& corners) {
+  cursor.expect_word("normal");
+  for (int i = 0; i < 3; ++i) cursor.next_number<float>();
+  cursor.expect_word("outer");
+  cursor.expect_word("loop");
+  for (int k = 0; k < 3; ++k) {
+    cursor.expect_word("vertex");
+    StlPoint corner;
+    for (float& coordinate : corner) coordinate = cursor.next_number<float>();
+    corners.push_back(corner);
+  }
+  cursor.expect_word("endloop");
+  cursor.expect_word("endfacet");
+}
+
+// One or more `solid NAME ... endsolid NAME` blocks.
+ParsedMesh parse_ascii(std::string_view bytes, const std::string& source) {
+  require_text(bytes, source);
+  TextCursor cursor(bytes, source, TextCursor::Separator::Lines);
+  std::vector<StlPoint> corners;
+  std::vector<int> face_lines;
+  std::string_view word = cursor.next_word();
+  do {
+    if (word != "solid")
+      cursor.fail(ErrorKind::BadFormat, "expected 'solid', found " + excerpt(word));
+    cursor.next_line();  // the solid's name
+    while ((word = cursor.next_word()) == "facet") {
+      face_lines.push_back(cursor.line());
+      read_ascii_facet(cursor, corners);
+    }
+    if (word != "endsolid") {
+      cursor.fail(ErrorKind::BadFormat, "expected 'facet' or 'endsolid', found " +
+                                            (word.empty() ? "the end of the file" : excerpt(word)));
+    }
+    cursor.next_line();
+    word = cursor.next_word();
+  } while (!word.empty());
+  return weld(corners, std::move(face_lines));
+}
+
+bool starts_with_solid(std::string_view bytes) {
+  const size_t start = bytes.find_first_not_of(" \t\r\n");
+  return start != std::string_view::npos && bytes.substr(start, 5) == "solid";
+}
+
+// The unit normal of `face` in float32, or zero for a degenerate face.
+StlPoint facet_normal(const Mesh& mesh, const Tri& face) {
+  const Vec3& a = mesh.positions[face[0]];
+  const Vec3& b = mesh.positions[face[1]];
+  const Vec3& c = mesh.positions[face[2]];
+  const Vec3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const Vec3 ac{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const Vec3 n{ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
+               ab[0] * ac[1] - ab[1] * ac[0]};
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(length > 0)) return {0.0f, 0.0f, 0.0f};
+  return {static_cast<float>(n[0] / length), static_cast<float>(n[1] / length),
+          static_cast<float>(n[2] / length)};
+}
+
+StlPoint to_float(const Vec3& p) {
+  return {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
+}
+
+std::string serialize_binary(const Mesh& mesh) {
+  std::string out = "binary STL written by foldfill";  // must not start with "solid"
+  out.resize(kHeaderBytes, ' ');
+  out.reserve(kHeaderBytes + 4 + kFacetBytes * mesh.faces.size());
+  append_little_endian(out, static_cast<uint32_t>(mesh.faces.size()));
+  for (const Tri& face : mesh.faces) {
+    for (float coordinate : facet_normal(mesh, face)) append_little_endian(out, coordinate);
+    for (int v : face) {
+      for (float coordinate : to_float(mesh.positions[v])) append_little_endian(out, coordinate);
+    }
+    append_little_endian(out, uint16_t{0});
+  }
+  return out;
+}
+
+std::string serialize_ascii(const Mesh& mesh) {
+  std::string out = "solid foldfill\n";
+  for (const Tri& face : mesh.faces) {
+    out += "  facet normal ";
+    append_numbers_line(out, facet_normal(mesh, face));
+    out += "    outer loop\n";
+    for (int v : face) {
+      out += "      vertex ";
+      append_numbers_line(out, to_float(mesh.positions[v]));
+    }
+    out += "    endloop\n  endfacet\n";
+  }
+  out += "endsolid foldfill\n";
+  return out;
+}
+
+}  // namespace
+
+ParsedMesh parse_stl(std::string_view bytes, const std::string& source) {
+  uint64_t facet_count = 0;
+  if (is_binary_stl(bytes, facet_count)) return parse_binary(bytes, facet_count, source);
+  if (starts_with_solid(bytes)) return parse_ascii(bytes, source);
+  if (bytes.size() < kHeaderBytes + 4) {
+    fail(ErrorKind::BadFormat, source, "not an STL file (no 'solid' and too short for binary)");
+  }
+  fail(ErrorKind::BadFormat, source,
+       "binary STL is truncated or padded: it claims " + std::to_string(facet_count) + " facets (" +
+           std::to_string(kHeaderBytes + 4 + kFacetBytes * facet_count) + " bytes) but has " +
+           std::to_string(bytes.size()) + " bytes");
+}
+
+std::string serialize_stl(const Mesh& mesh, bool binary) {
+  return binary ? serialize_binary(mesh) : serialize_ascii(mesh);
+}
+
+}  // namespace foldfill::io_detail

@@ -1,1 +1,334 @@
-// placeholder while the stage is written
+// Rigid obstacles: parsing (JSON or the prototype's text lines), signed
+// distances and projection of inside points to the nearest surface point.
+#include "foldfill/obstacles.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "foldfill/error.h"
+
+namespace foldfill {
+namespace {
+
+using Json = nlohmann::json;
+
+Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+bool finite(const Vec3& a) {
+  return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]);
+}
+
+Vec3 rotate_z(const Vec3& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]};
+}
+Vec3 rotate_x(const Vec3& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {v[0], c * v[1] - s * v[2], s * v[1] + c * v[2]};
+}
+
+// The prototype's cylinder axis: Rz(psi) Rx(theta) Rz(phi) (0, 1, 0).
+Vec3 axis_from_euler_zxz(double psi, double phi, double theta) {
+  return rotate_z(rotate_x(rotate_z({0, 1, 0}, phi), theta), psi);
+}
+
+// A unit vector perpendicular to the unit vector `a`.
+Vec3 any_perpendicular(const Vec3& a) {
+  const int least = static_cast<int>(
+      std::min_element(a.begin(), a.end(),
+                       [](double x, double y) { return std::abs(x) < std::abs(y); }) -
+      a.begin());
+  Vec3 e{0, 0, 0};
+  e[least] = 1;
+  const Vec3 p = sub(e, scaled(a, a[least]));
+  return scaled(p, 1 / norm(p));
+}
+
+[[noreturn]] void fail(const std::string& where, const std::string& problem) {
+  throw Error(ErrorKind::Usage, where + ": " + problem);
+}
+
+// Checks the values of a parsed obstacle and makes its directions unit.
+Obstacle validated(Obstacle o, const std::string& where) {
+  if (!finite(o.center)) fail(where, "non-finite coordinate");
+  if (o.type != Obstacle::Type::Plane && !(std::isfinite(o.radius) && o.radius > 0)) {
+    fail(where, "radius must be positive");
+  }
+  if (o.type == Obstacle::Type::Cylinder) {
+    if (!(std::isfinite(o.height) && o.height > 0)) fail(where, "height must be positive");
+    const double length = norm(o.axis);
+    if (!(std::isfinite(length) && length > 0)) fail(where, "axis must be a non-zero vector");
+    o.axis = scaled(o.axis, 1 / length);
+  }
+  if (o.type == Obstacle::Type::Plane) {
+    const double length = norm(o.normal);
+    if (!(std::isfinite(length) && length > 0)) fail(where, "normal must be a non-zero vector");
+    o.normal = scaled(o.normal, 1 / length);
+  }
+  return o;
+}
+
+// One JSON obstacle entry, read with error messages that name it.
+class JsonEntry {
+ public:
+  JsonEntry(const Json& entry, std::string where) : entry_(entry), where_(std::move(where)) {}
+
+  const std::string& where() const { return where_; }
+  bool has(const char* key) const { return entry_.contains(key); }
+
+  // Rejects keys outside `allowed`, so that a misspelt key is not silently ignored.
+  void check_keys(std::initializer_list<const char*> allowed, const std::string& type) const {
+    for (const auto& item : entry_.items()) {
+      const bool known = std::any_of(allowed.begin(), allowed.end(),
+                                     [&](const char* k) { return item.key() == k; });
+      if (!known) fail(where_, "unknown key \"" + item.key() + "\" for a " + type);
+    }
+  }
+  double number(const char* key) const {
+    const Json& value = field(key);
+    if (!value.is_number()) fail(where_, "\"" + std::string(key) + "\" must be a number");
+    return value.get<double>();
+  }
+  Vec3 vec3(const char* key) const {
+    const Json& value = field(key);
+    if (!value.is_array() || value.size() != 3 ||
+        !std::all_of(value.begin(), value.end(), [](const Json& v) { return v.is_number(); })) {
+      fail(where_, "\"" + std::string(key) + "\" must be an array of 3 numbers");
+    }
+    return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+  }
+
+ private:
+  const Json& field(const char* key) const {
+    if (!entry_.contains(key)) fail(where_, "missing \"" + std::string(key) + "\"");
+    return entry_.at(key);
+  }
+
+  const Json& entry_;
+  std::string where_;
+};
+
+Obstacle parse_json_entry(const JsonEntry& entry, const std::string& type) {
+  Obstacle o;
+  if (type == "sphere") {
+    entry.check_keys({"type", "center", "radius"}, type);
+    o.type = Obstacle::Type::Sphere;
+    o.center = entry.vec3("center");
+    o.radius = entry.number("radius");
+  } else if (type == "cylinder") {
+    entry.check_keys({"type", "center", "radius", "height", "euler_zxz", "axis"}, type);
+    o.type = Obstacle::Type::Cylinder;
+    o.center = entry.vec3("center");
+    o.radius = entry.number("radius");
+    o.height = entry.number("height");
+    if (entry.has("euler_zxz") == entry.has("axis")) {
+      fail(entry.where(), "a cylinder needs exactly one of \"euler_zxz\" and \"axis\"");
+    }
+    if (entry.has("axis")) {
+      o.axis = entry.vec3("axis");
+    } else {
+      const Vec3 angles = entry.vec3("euler_zxz");  // psi, phi, theta
+      if (!finite(angles)) fail(entry.where(), "non-finite angle");
+      o.axis = axis_from_euler_zxz(angles[0], angles[1], angles[2]);
+    }
+  } else if (type == "plane") {
+    entry.check_keys({"type", "point", "normal"}, type);
+    o.type = Obstacle::Type::Plane;
+    o.center = entry.vec3("point");
+    o.normal = entry.vec3("normal");
+  } else {
+    fail(entry.where(), "unknown type \"" + type + "\" (sphere, cylinder or plane)");
+  }
+  return validated(o, entry.where());
+}
+
+std::vector<Obstacle> parse_json(const std::string& text, const std::string& source) {
+  Json document;
+  try {
+    document = Json::parse(text);
+  } catch (const Json::exception& e) {     // syntax errors and number overflow
+    const std::string message = e.what();  // "[json.exception.KIND] problem"
+    fail(source, "invalid JSON: " + message.substr(message.find(']') + 2));
+  }
+  const Json* list = &document;
+  if (document.is_object()) {
+    if (!document.contains("obstacles")) fail(source, "expected {\"obstacles\": [...]}");
+    list = &document.at("obstacles");
+  }
+  if (!list->is_array()) fail(source, "\"obstacles\" must be an array");
+  std::vector<Obstacle> obstacles;
+  for (size_t k = 0; k < list->size(); ++k) {
+    const Json& item = (*list)[k];
+    const std::string where = source + ": obstacle " + std::to_string(k + 1);
+    if (!item.is_object()) fail(where, "must be an object");
+    if (!item.contains("type") || !item.at("type").is_string()) {
+      fail(where, "missing \"type\" (sphere, cylinder or plane)");
+    }
+    obstacles.push_back(
+        parse_json_entry(JsonEntry(item, where), item.at("type").get<std::string>()));
+  }
+  return obstacles;
+}
+
+double parse_number(const std::string& token, const std::string& where) {
+  char* end = nullptr;
+  const double value = std::strtod(token.c_str(), &end);
+  if (token.empty() || *end != '\0') fail(where, "\"" + token + "\" is not a number");
+  if (!std::isfinite(value)) fail(where, "non-finite number \"" + token + "\"");
+  return value;
+}
+
+// One line of the prototype's format: `sphere x y z r` or
+// `cylinder x y z r h psi phi theta`.
+Obstacle parse_text_line(const std::vector<std::string>& tokens, const std::string& where) {
+  const std::string& type = tokens[0];
+  const size_t expected = type == "sphere" ? 4 : type == "cylinder" ? 8 : 0;
+  if (expected == 0) fail(where, "unknown obstacle type \"" + type + "\" (sphere or cylinder)");
+  if (tokens.size() - 1 != expected) {
+    fail(where, type + " needs " + std::to_string(expected) + " numbers (" +
+                    (expected == 4 ? "x y z r" : "x y z r h psi phi theta") + "), got " +
+                    std::to_string(tokens.size() - 1));
+  }
+  std::vector<double> v;
+  for (size_t k = 1; k < tokens.size(); ++k) v.push_back(parse_number(tokens[k], where));
+  Obstacle o;
+  o.center = {v[0], v[1], v[2]};
+  o.radius = v[3];
+  if (type == "cylinder") {
+    o.type = Obstacle::Type::Cylinder;
+    o.height = v[4];
+    o.axis = axis_from_euler_zxz(v[5], v[6], v[7]);
+  }
+  return validated(o, where);
+}
+
+std::vector<Obstacle> parse_text(const std::string& text, const std::string& source) {
+  std::vector<Obstacle> obstacles;
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    std::istringstream words(line.substr(0, line.find('#')));
+    std::vector<std::string> tokens;
+    for (std::string word; words >> word;) tokens.push_back(word);
+    if (!tokens.empty()) {
+      obstacles.push_back(parse_text_line(tokens, source + ": line " + std::to_string(number)));
+    }
+  }
+  return obstacles;
+}
+
+// Cylinder coordinates of `p`: signed position along the axis and the radial offset.
+struct AxialSplit {
+  double t;
+  Vec3 radial;
+};
+AxialSplit split(const Obstacle& cylinder, const Vec3& p) {
+  const Vec3 d = sub(p, cylinder.center);
+  const double t = dot(d, cylinder.axis);
+  return {t, sub(d, scaled(cylinder.axis, t))};
+}
+
+double cylinder_distance(const Obstacle& cylinder, const Vec3& p) {
+  const AxialSplit s = split(cylinder, p);
+  const double side = norm(s.radial) - cylinder.radius;
+  const double cap = std::abs(s.t) - 0.5 * cylinder.height;
+  if (side > 0 && cap > 0) return std::hypot(side, cap);  // nearest is the rim
+  return std::max(side, cap);
+}
+
+Vec3 nearest_on_sphere(const Obstacle& sphere, const Vec3& p) {
+  const Vec3 d = sub(p, sphere.center);
+  const double length = norm(d);
+  const Vec3 direction = length > 0 ? scaled(d, 1 / length) : Vec3{0, 0, 1};
+  return add(sphere.center, scaled(direction, sphere.radius));
+}
+
+// For a point inside: the nearest of the side and the caps.
+Vec3 nearest_on_cylinder_from_inside(const Obstacle& cylinder, const Vec3& p) {
+  const AxialSplit s = split(cylinder, p);
+  const double rho = norm(s.radial), half = 0.5 * cylinder.height;
+  Vec3 radial = s.radial;
+  double t = s.t;
+  if (cylinder.radius - rho <= half - std::abs(t)) {
+    // Near the axis the radial offset is rounding noise with no direction: any
+    // perpendicular is as near. Elsewhere a second projection keeps it exactly
+    // perpendicular to the axis.
+    const Vec3 perpendicular = sub(radial, scaled(cylinder.axis, dot(radial, cylinder.axis)));
+    const Vec3 direction = rho > 1e-12 * cylinder.radius
+                               ? scaled(perpendicular, 1 / norm(perpendicular))
+                               : any_perpendicular(cylinder.axis);
+    radial = scaled(direction, cylinder.radius);
+  } else {
+    t = t < 0 ? -half : half;
+  }
+  return add(cylinder.center, add(scaled(cylinder.axis, t), radial));
+}
+
+}  // namespace
+
+std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string& source) {
+  const auto first =
+      std::find_if(text.begin(), text.end(), [](unsigned char c) { return !std::isspace(c); });
+  const bool json = first != text.end() && (*first == '{' || *first == '[');
+  return json ? parse_json(text, source) : parse_text(text, source);
+}
+
+std::vector<Obstacle> read_obstacles(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::CannotRead, path + ": cannot read obstacles file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw Error(ErrorKind::CannotRead, path + ": cannot read obstacles file");
+  return parse_obstacles(text.str(), path);
+}
+
+double signed_distance(const Obstacle& obstacle, const Vec3& p) {
+  switch (obstacle.type) {
+    case Obstacle::Type::Sphere:
+      return norm(sub(p, obstacle.center)) - obstacle.radius;
+    case Obstacle::Type::Cylinder:
+      return cylinder_distance(obstacle, p);
+    case Obstacle::Type::Plane:
+      return dot(sub(p, obstacle.center), obstacle.normal);
+  }
+  return 0;
+}
+
+bool push_outside(const Obstacle& obstacle, Vec3& p) {
+  const double distance = signed_distance(obstacle, p);
+  if (!(distance < 0)) return false;
+  switch (obstacle.type) {
+    case Obstacle::Type::Sphere:
+      p = nearest_on_sphere(obstacle, p);
+      break;
+    case Obstacle::Type::Cylinder:
+      p = nearest_on_cylinder_from_inside(obstacle, p);
+      break;
+    case Obstacle::Type::Plane:
+      p = sub(p, scaled(obstacle.normal, distance));
+      break;
+  }
+  return true;
+}
+
+Obstacle normalized(const Obstacle& obstacle, const Vec3& origin, double scale) {
+  if (!(std::isfinite(scale) && scale > 0)) {
+    throw Error(ErrorKind::Internal, "obstacles: normalisation scale must be positive");
+  }
+  Obstacle result = obstacle;
+  result.center = scaled(sub(obstacle.center, origin), 1 / scale);
+  result.radius = obstacle.radius / scale;
+  result.height = obstacle.height / scale;
+  return result;
+}
+
+}  // namespace foldfill

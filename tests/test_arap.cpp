@@ -1,2 +1,139 @@
-// placeholder while the stage is written
+// ARAP initialisation on hand-built domains: a triangular lattice whose two
+// outer rings are the fixed strip, placed in 3D by a known map.
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "foldfill/arap.h"
+#include "foldfill/error.h"
+#include "lattice_domain.h"
+
+namespace foldfill {
+namespace {
+
+using testing::lattice_domain;
+
+Vec3 rigid_motion(const Vec2& uv) {
+  // Rotation by 0.7 rad about the unit axis (1, 2, 2) / 3, then a translation.
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 2) / 3).toRotationMatrix();
+  const Eigen::Vector3d p = r * Eigen::Vector3d(uv[0], uv[1], 0) + Eigen::Vector3d(3, -1, 2);
+  return {p.x(), p.y(), p.z()};
+}
+
+// Wraps u around a cylinder of radius `radius` with axis along v: isometric.
+std::function<Vec3(const Vec2&)> onto_cylinder(double radius) {
+  return [radius](const Vec2& uv) {
+    return Vec3{radius * std::sin(uv[0] / radius), uv[1], radius * (1 - std::cos(uv[0] / radius))};
+  };
+}
+
+double length(const Vec3& a, const Vec3& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+// Mean of |x_i - x_j| / rest over the patch faces' edges.
+double mean_length_ratio(const EmbedDomain& domain, const std::vector<Vec3>& x) {
+  double sum = 0;
+  int count = 0;
+  for (size_t f = domain.strip_face_count; f < domain.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = domain.faces[f][k], j = domain.faces[f][(k + 1) % 3];
+      const Vec2& a = domain.rest_uv[i];
+      const Vec2& b = domain.rest_uv[j];
+      sum += length(x[i], x[j]) / std::hypot(a[0] - b[0], a[1] - b[1]);
+      ++count;
+    }
+  }
+  return sum / count;
+}
+
+double max_abs_length_error(const EmbedDomain& domain, const std::vector<Vec3>& x) {
+  double worst = 0;
+  for (size_t f = domain.strip_face_count; f < domain.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = domain.faces[f][k], j = domain.faces[f][(k + 1) % 3];
+      const Vec2& a = domain.rest_uv[i];
+      const Vec2& b = domain.rest_uv[j];
+      worst = std::max(worst, std::abs(length(x[i], x[j]) - std::hypot(a[0] - b[0], a[1] - b[1])));
+    }
+  }
+  return worst;
+}
+
+TEST(Arap, LatticeDomainIsConsistent) {
+  const EmbedDomain domain = lattice_domain(8, 7, rigid_motion);
+  EXPECT_EQ(domain.vertex_count(), 56);
+  EXPECT_EQ(domain.fixed_count, 26 + 18);
+  EXPECT_EQ(domain.loop_size, 18);
+  EXPECT_EQ(domain.faces.size(), 2u * 7 * 6);
+  // Consecutive loop vertices are one rest edge apart.
+  for (int k = 0; k < domain.loop_size; ++k) {
+    const Vec2& a = domain.rest_uv[k];
+    const Vec2& b = domain.rest_uv[(k + 1) % domain.loop_size];
+    EXPECT_NEAR(std::hypot(a[0] - b[0], a[1] - b[1]), 1.0, 1e-12) << k;
+  }
+}
+
+TEST(Arap, RigidlyMovedBoundaryGivesTheRigidlyMovedPatch) {
+  const EmbedDomain domain = lattice_domain(12, 11, rigid_motion);
+  const std::vector<Vec3> x = arap_embed(domain, {1.0, 30});
+  ASSERT_EQ(x.size(), domain.rest_uv.size());
+  for (int i = domain.fixed_count; i < domain.vertex_count(); ++i) {
+    const Vec3 expected = rigid_motion(domain.rest_uv[i]);
+    EXPECT_LT(length(x[i], expected), 1e-8) << i;
+  }
+}
+
+TEST(Arap, FixedVerticesAreReturnedBitForBit) {
+  const EmbedDomain domain = lattice_domain(10, 9, onto_cylinder(2.0));
+  const std::vector<Vec3> x = arap_embed(domain, {0.5, 10});
+  for (int i = 0; i < domain.fixed_count; ++i) EXPECT_EQ(x[i], domain.fixed_positions[i]) << i;
+}
+
+TEST(Arap, BentBoundaryGivesANearlyIsometricPatchOnTheCylinder) {
+  const double radius = 2.5;
+  const EmbedDomain domain = lattice_domain(14, 12, onto_cylinder(radius));
+  const std::vector<Vec3> x = arap_embed(domain, {1.0, 30});
+  EXPECT_LT(max_abs_length_error(domain, x), 0.03);
+  for (int i = domain.fixed_count; i < domain.vertex_count(); ++i) {
+    const double distance_to_axis = std::hypot(x[i][0], x[i][2] - radius);
+    EXPECT_NEAR(distance_to_axis, radius, 0.025 * radius) << i;
+  }
+  // The flat start alone is far from the cylinder: ARAP did the bending.
+  const std::vector<Vec3> start = arap_embed(domain, {1.0, 0});
+  double worst_start = 0;
+  for (int i = domain.fixed_count; i < domain.vertex_count(); ++i)
+    worst_start =
+        std::max(worst_start, std::abs(std::hypot(start[i][0], start[i][2] - radius) - radius));
+  EXPECT_GT(worst_start, 0.1 * radius);
+}
+
+TEST(Arap, ShrunkRestShapeGivesShorterEdges) {
+  const EmbedDomain domain = lattice_domain(14, 12, onto_cylinder(2.5));
+  const double full = mean_length_ratio(domain, arap_embed(domain, {1.0, 30}));
+  const double shrunk = mean_length_ratio(domain, arap_embed(domain, {0.5, 30}));
+  EXPECT_NEAR(full, 1.0, 0.01);
+  EXPECT_LT(shrunk, full - 0.05);
+}
+
+TEST(Arap, IsDeterministic) {
+  const EmbedDomain domain = lattice_domain(10, 9, onto_cylinder(2.0));
+  EXPECT_EQ(arap_embed(domain, {0.5, 20}), arap_embed(domain, {0.5, 20}));
+}
+
+TEST(Arap, RejectsInconsistentDomains) {
+  EmbedDomain domain = lattice_domain(6, 6, rigid_motion);
+  domain.fixed_positions.pop_back();
+  EXPECT_THROW(arap_embed(domain), Error);
+  domain = lattice_domain(6, 6, rigid_motion);
+  domain.fixed_positions[0][1] = std::nan("");
+  EXPECT_THROW(arap_embed(domain), Error);
+  domain = lattice_domain(6, 6, rigid_motion);
+  EXPECT_THROW(arap_embed(domain, {0.0, 30}), Error);
+}
+
+}  // namespace
+}  // namespace foldfill

@@ -1,2 +1,430 @@
-// placeholder while the stage is written
+// The fabric energy on small grids built here: gradients against finite
+// differences for every term, rest states, invariances and the bending Hessian.
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "foldfill/energy.h"
+#include "foldfill/error.h"
+
+namespace foldfill {
+namespace {
+
+using Embedding = std::function<Vec3(const Vec2&)>;
+
+Vec3 flat(const Vec2& uv) { return {uv[0], uv[1], 0}; }
+
+// The rest grid rolled onto a cylinder of radius `radius` around an axis along v.
+Embedding rolled(double radius) {
+  return [radius](const Vec2& uv) {
+    return Vec3{radius * std::sin(uv[0] / radius), uv[1], radius * (1 - std::cos(uv[0] / radius))};
+  };
+}
+
+// An n x n grid of unit spacing (the normalised unit) with alternating
+// diagonals, counter-clockwise in rest_uv. The boundary ring comes first and
+// is fixed at embed(uv); the interior vertices are free.
+EmbedDomain grid_domain(int n, const Embedding& embed = flat) {
+  std::vector<int> index(n * n);
+  std::vector<Vec2> uv;
+  const auto on_boundary = [n](int i, int j) {
+    return i == 0 || j == 0 || i == n - 1 || j == n - 1;
+  };
+  for (bool boundary : {true, false}) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        if (on_boundary(i, j) != boundary) continue;
+        index[j * n + i] = static_cast<int>(uv.size());
+        uv.push_back({static_cast<double>(i), static_cast<double>(j)});
+      }
+    }
+  }
+  EmbedDomain domain;
+  domain.rest_uv = uv;
+  domain.fixed_count = domain.loop_size = 4 * (n - 1);
+  for (int v = 0; v < domain.fixed_count; ++v) domain.fixed_positions.push_back(embed(uv[v]));
+  for (int j = 0; j + 1 < n; ++j) {
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = index[j * n + i], b = index[j * n + i + 1];
+      const int c = index[(j + 1) * n + i + 1], d = index[(j + 1) * n + i];
+      if ((i + j) % 2 == 0) {
+        domain.faces.push_back({a, b, c});
+        domain.faces.push_back({a, c, d});
+      } else {
+        domain.faces.push_back({a, b, d});
+        domain.faces.push_back({b, c, d});
+      }
+    }
+  }
+  return domain;
+}
+
+// The free variables of `domain` placed at embed(rest_uv).
+Eigen::VectorXd embedded_variables(const EmbedDomain& domain, const Embedding& embed) {
+  Eigen::VectorXd x(3 * domain.free_count());
+  for (int v = 0; v < domain.free_count(); ++v) {
+    const Vec3 p = embed(domain.rest_uv[domain.fixed_count + v]);
+    for (int c = 0; c < 3; ++c) x[3 * v + c] = p[c];
+  }
+  return x;
+}
+
+Eigen::VectorXd perturbed(Eigen::VectorXd x, double amplitude, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> noise(-amplitude, amplitude);
+  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
+  return x;
+}
+
+EnergyOptions weights(double lambda, double repulsion, BendingModel bending) {
+  EnergyOptions options;
+  options.lambda = lambda;
+  options.repulsion = repulsion;
+  options.bending = bending;
+  return options;
+}
+
+Eigen::VectorXd gradient_of(const FabricEnergy& energy, const Eigen::VectorXd& x) {
+  Eigen::VectorXd g;
+  energy.evaluate(x, &g);
+  return g;
+}
+
+using Term = double EnergyTerms::*;
+
+// Central finite differences of one term.
+Eigen::VectorXd numeric_gradient(const FabricEnergy& energy, const Eigen::VectorXd& x, Term term) {
+  const double h = 1e-6;
+  Eigen::VectorXd g(x.size()), y = x;
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    y[k] = x[k] + h;
+    const double plus = energy.evaluate(y).*term;
+    y[k] = x[k] - h;
+    const double minus = energy.evaluate(y).*term;
+    y[k] = x[k];
+    g[k] = (plus - minus) / (2 * h);
+  }
+  return g;
+}
+
+double relative_error(const Eigen::VectorXd& g, const Eigen::VectorXd& reference) {
+  return (g - reference).norm() / reference.norm();
+}
+
+// A rolled 7 x 7 grid with its interior shaken off the surface.
+struct BentCase {
+  EmbedDomain domain = grid_domain(7, rolled(3));
+  Eigen::VectorXd x = perturbed(embedded_variables(domain, rolled(3)), 0.3, 7);
+};
+
+TEST(EnergyGradient, IsometricMatchesFiniteDifferences) {
+  const BentCase bent;
+  const FabricEnergy energy(bent.domain, weights(0, 0, BendingModel::Quadratic));
+  const Eigen::VectorXd numeric = numeric_gradient(energy, bent.x, &EnergyTerms::isometric);
+  EXPECT_GT(numeric.norm(), 1e-2);
+  EXPECT_LT(relative_error(gradient_of(energy, bent.x), numeric), 1e-5);
+}
+
+// The bending gradient alone: the gradient with lambda = 1 minus the one with lambda = 0.
+void check_bending_gradient(BendingModel model) {
+  const BentCase bent;
+  const FabricEnergy with(bent.domain, weights(1, 0, model));
+  const FabricEnergy without(bent.domain, weights(0, 0, model));
+  const Eigen::VectorXd numeric = numeric_gradient(with, bent.x, &EnergyTerms::bending);
+  EXPECT_GT(numeric.norm(), 1e-2);
+  const Eigen::VectorXd analytic = gradient_of(with, bent.x) - gradient_of(without, bent.x);
+  EXPECT_LT(relative_error(analytic, numeric), 1e-5);
+}
+
+TEST(EnergyGradient, QuadraticBendingMatchesFiniteDifferences) {
+  check_bending_gradient(BendingModel::Quadratic);
+}
+
+TEST(EnergyGradient, TwoRingBendingMatchesFiniteDifferences) {
+  check_bending_gradient(BendingModel::TwoRing);
+}
+
+// The interior squeezed towards its centre so that vertices come closer than
+// their repulsion radius.
+struct SqueezedCase {
+  EmbedDomain domain = grid_domain(7, rolled(3));
+  Eigen::VectorXd x = squeeze(perturbed(embedded_variables(domain, rolled(3)), 0.1, 3));
+  static Eigen::VectorXd squeeze(Eigen::VectorXd x) {
+    const Eigen::Vector3d centre = x.reshaped(3, x.size() / 3).rowwise().mean();
+    for (Eigen::Index k = 0; k < x.size(); ++k)
+      x[k] = centre[k % 3] + 0.35 * (x[k] - centre[k % 3]);
+    return x;
+  }
+};
+
+TEST(EnergyGradient, RepulsionMatchesFiniteDifferences) {
+  const SqueezedCase squeezed;
+  const FabricEnergy with(squeezed.domain, weights(0, 1, BendingModel::Quadratic));
+  const FabricEnergy without(squeezed.domain, weights(0, 0, BendingModel::Quadratic));
+  EXPECT_GT(with.evaluate(squeezed.x).repulsion, 0.1);
+  const Eigen::VectorXd numeric = numeric_gradient(with, squeezed.x, &EnergyTerms::repulsion);
+  const Eigen::VectorXd analytic = gradient_of(with, squeezed.x) - gradient_of(without, squeezed.x);
+  EXPECT_LT(relative_error(analytic, numeric), 1e-5);
+}
+
+TEST(EnergyGradient, TotalMatchesFiniteDifferences) {
+  const SqueezedCase squeezed;
+  for (BendingModel model : {BendingModel::Quadratic, BendingModel::TwoRing}) {
+    const FabricEnergy energy(squeezed.domain, weights(0.3, 0.7, model));
+    const EnergyTerms terms = energy.evaluate(squeezed.x);
+    EXPECT_GT(terms.repulsion, 0);
+    EXPECT_DOUBLE_EQ(terms.total, terms.isometric + 0.3 * terms.bending + 0.7 * terms.repulsion);
+    const Eigen::VectorXd numeric = numeric_gradient(energy, squeezed.x, &EnergyTerms::total);
+    EXPECT_LT(relative_error(gradient_of(energy, squeezed.x), numeric), 1e-5);
+  }
+}
+
+TEST(EnergyRestState, FlatRestStateHasZeroEnergyAndGradient) {
+  const EmbedDomain domain = grid_domain(6);
+  const Eigen::VectorXd x = embedded_variables(domain, flat);
+  for (BendingModel model : {BendingModel::Quadratic, BendingModel::TwoRing}) {
+    const FabricEnergy energy(domain, weights(1, 1, model));
+    Eigen::VectorXd g;
+    const EnergyTerms terms = energy.evaluate(x, &g);
+    EXPECT_NEAR(terms.isometric, 0, 1e-24);
+    EXPECT_NEAR(terms.bending, 0, 1e-24);
+    EXPECT_EQ(terms.repulsion, 0);  // radius 1/1.3 < the shortest non-edge distance sqrt(2)
+    EXPECT_LT(g.norm(), 1e-12);
+    // The same state shaken is not at rest.
+    EXPECT_GT(energy.evaluate(perturbed(x, 0.2, 5)).total, 1e-4);
+  }
+}
+
+// A rotation about a generic axis and a translation.
+Vec3 rigid_motion(const Vec3& p) {
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Vector3d q =
+      rotation * Eigen::Vector3d(p[0], p[1], p[2]) + Eigen::Vector3d(3, -1, 2);
+  return {q[0], q[1], q[2]};
+}
+
+// The domain and variables with every position (fixed and free) moved rigidly.
+void move_rigidly(EmbedDomain& domain, Eigen::VectorXd& x) {
+  for (Vec3& p : domain.fixed_positions) p = rigid_motion(p);
+  for (Eigen::Index v = 0; v < x.size() / 3; ++v) {
+    const Vec3 q = rigid_motion({x[3 * v], x[3 * v + 1], x[3 * v + 2]});
+    for (int c = 0; c < 3; ++c) x[3 * v + c] = q[c];
+  }
+}
+
+TEST(EnergyRestState, RigidlyMovedFlatStateHasZeroBending) {
+  EmbedDomain domain = grid_domain(6);
+  Eigen::VectorXd x = embedded_variables(domain, flat);
+  move_rigidly(domain, x);
+  for (BendingModel model : {BendingModel::Quadratic, BendingModel::TwoRing}) {
+    const EnergyTerms terms = FabricEnergy(domain, weights(1, 1, model)).evaluate(x);
+    // p^T H p of a state in H's kernel cancels to rounding: eps |H| |p|^2 per vertex.
+    EXPECT_NEAR(terms.bending, 0, 1e-10);
+    EXPECT_NEAR(terms.isometric, 0, 1e-20);
+  }
+}
+
+TEST(EnergyInvariance, RigidMotionKeepsEveryTerm) {
+  SqueezedCase squeezed;
+  for (BendingModel model : {BendingModel::Quadratic, BendingModel::TwoRing}) {
+    const EnergyTerms before =
+        FabricEnergy(squeezed.domain, weights(1, 1, model)).evaluate(squeezed.x);
+    EmbedDomain moved_domain = squeezed.domain;
+    Eigen::VectorXd moved_x = squeezed.x;
+    move_rigidly(moved_domain, moved_x);
+    const EnergyTerms after = FabricEnergy(moved_domain, weights(1, 1, model)).evaluate(moved_x);
+    EXPECT_GT(before.repulsion, 0);
+    EXPECT_NEAR(after.isometric, before.isometric, 1e-12 * before.isometric);
+    EXPECT_NEAR(after.bending, before.bending, 1e-10 * before.bending);
+    EXPECT_NEAR(after.repulsion, before.repulsion, 1e-12 * before.repulsion);
+  }
+}
+
+double rolled_bending(double radius, double stretch = 1) {
+  const Embedding embed = [&](const Vec2& uv) {
+    const Vec3 p = rolled(radius)(uv);
+    return Vec3{stretch * p[0], stretch * p[1], stretch * p[2]};
+  };
+  const EmbedDomain domain = grid_domain(9, embed);
+  return FabricEnergy(domain, {}).evaluate(embedded_variables(domain, embed)).bending;
+}
+
+TEST(QuadraticBending, RolledGridScalesWithSquaredCurvature) {
+  const double e10 = rolled_bending(10), e20 = rolled_bending(20);
+  EXPECT_GT(e10, 0);
+  EXPECT_NEAR(e10 / e20, 4, 0.04);  // E ~ area / R^2
+  // Quadratic in the positions: scaling the whole state by s scales E by s^2.
+  EXPECT_NEAR(rolled_bending(10, 2.5), 6.25 * e10, 1e-9 * e10);
+}
+
+// One hinge: rest edge (0,0)-(1,0), triangles of areas 0.4 (vertex 2, fixed)
+// and 0.75 (vertex 3, free), the second wing folded by `angle` about the edge.
+struct Hinge {
+  EmbedDomain domain;
+  Eigen::VectorXd x;
+  explicit Hinge(double angle) {
+    domain.rest_uv = {{0, 0}, {1, 0}, {0.3, 0.8}, {0.6, -1.5}};
+    domain.faces = {{0, 1, 2}, {1, 0, 3}};
+    domain.fixed_count = 3;
+    domain.fixed_positions = {{0, 0, 0}, {1, 0, 0}, {0.3, 0.8, 0}};
+    x = Eigen::Vector3d(0.6, -1.5 * std::cos(angle), 1.5 * std::sin(angle));
+  }
+};
+
+// |K X| = |e| 2 sin(angle / 2) for an isometric fold, so E_B = 1/2 3 / (A0 + A1) |K X|^2.
+TEST(QuadraticBending, HingeEnergyUsesBothFaceAreas) {
+  const double angle = 0.7;
+  const Hinge hinge(angle);
+  const EnergyTerms terms = FabricEnergy(hinge.domain, {}).evaluate(hinge.x);
+  const double expected = 0.5 * 3 / (0.4 + 0.75) * std::pow(2 * std::sin(angle / 2), 2);
+  EXPECT_NEAR(terms.bending, expected, 1e-14);
+  EXPECT_NEAR(terms.isometric, 0, 1e-28);
+}
+
+// Vertices 2 and 3 are the hinge's only two-ring pair.
+TEST(TwoRingBending, HingeEnergyIsTheSpringBetweenTheWingTips) {
+  const Hinge hinge(0.7);
+  const EnergyTerms terms =
+      FabricEnergy(hinge.domain, weights(1, 0, BendingModel::TwoRing)).evaluate(hinge.x);
+  const double rest = std::hypot(0.3 - 0.6, 0.8 + 1.5);
+  const double now = std::hypot(0.3 - hinge.x[0], 0.8 - hinge.x[1], hinge.x[2]);
+  EXPECT_NEAR(terms.bending, 0.5 * (now - rest) * (now - rest), 1e-14);
+}
+
+// Two separate triangles: a fixed one of edge 2 and a free one of edge 1 whose
+// vertex 3 comes within 0.2 of vertex 0. Radii: 2 / 1.3 and 1 / 1.3.
+TEST(Repulsion, PairRadiusIsTheMeanOfTheVertexRadii) {
+  EmbedDomain domain;
+  const double h = std::sqrt(3.0) / 2;
+  domain.rest_uv = {{0, 0}, {2, 0}, {1, 2 * h}, {10, 0}, {11, 0}, {10.5, h}};
+  domain.faces = {{0, 1, 2}, {3, 4, 5}};
+  domain.fixed_count = 3;
+  domain.fixed_positions = {{0, 0, 0}, {2, 0, 0}, {1, 2 * h, 0}};
+  const Eigen::VectorXd x = (Eigen::VectorXd(9) << 0, 0, 0.2, 0, 0, 5, 1, 0, 5).finished();
+  const EnergyTerms terms =
+      FabricEnergy(domain, weights(0, 1, BendingModel::Quadratic)).evaluate(x);
+  EXPECT_NEAR(terms.repulsion, 0.5 * std::pow(1.5 / 1.3 - 0.2, 2), 1e-15);
+}
+
+// The spatial hash finds every close pair: compare with all pairs on a
+// squeezed grid (unit rest edges, so every radius is 1 / 1.3).
+TEST(Repulsion, MatchesAllPairsSearch) {
+  const EmbedDomain domain = grid_domain(14, rolled(4));
+  const Eigen::VectorXd x =
+      SqueezedCase::squeeze(perturbed(embedded_variables(domain, rolled(4)), 0.2, 9));
+  const FabricEnergy energy(domain, weights(0, 1, BendingModel::Quadratic));
+  const std::vector<Vec3> p = energy.positions(x);
+  std::set<std::pair<int, int>> edges;
+  for (const Tri& t : domain.faces) {
+    for (int k = 0; k < 3; ++k) {
+      edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+    }
+  }
+  double expected = 0;
+  int close_pairs = 0;
+  for (int i = 0; i < domain.vertex_count(); ++i) {
+    for (int j = std::max(i + 1, domain.fixed_count); j < domain.vertex_count(); ++j) {
+      const double d = std::hypot(p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]);
+      if (d < 1 / 1.3 && !edges.count({i, j})) {
+        expected += 0.5 * std::pow(1 / 1.3 - d, 2);
+        ++close_pairs;
+      }
+    }
+  }
+  EXPECT_GT(close_pairs, 50);
+  EXPECT_NEAR(energy.evaluate(x).repulsion, expected, 1e-12 * expected);
+}
+
+TEST(QuadraticBending, HessianIsSymmetricPositiveSemidefinite) {
+  const EmbedDomain domain = grid_domain(7);
+  const FabricEnergy energy(domain, {});
+  const Eigen::SparseMatrix<double>& hessian = energy.bending_hessian();
+  ASSERT_EQ(hessian.rows(), domain.vertex_count());
+  ASSERT_GT(hessian.nonZeros(), 0);
+  const Eigen::SparseMatrix<double> transpose = hessian.transpose();
+  EXPECT_EQ((hessian - transpose).norm(), 0);
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 50; ++trial) {
+    Eigen::VectorXd v(hessian.rows());
+    for (Eigen::Index k = 0; k < v.size(); ++k) v[k] = normal(random);
+    EXPECT_GE(v.dot(hessian * v), -1e-12 * v.squaredNorm());
+  }
+  // Affine functions of the rest state (flat states) are in its kernel.
+  Eigen::VectorXd u(hessian.rows()), ones = Eigen::VectorXd::Ones(hessian.rows());
+  for (int v = 0; v < domain.vertex_count(); ++v) u[v] = domain.rest_uv[v][0];
+  EXPECT_LT((hessian * u).norm(), 1e-12);
+  EXPECT_LT((hessian * ones).norm(), 1e-12);
+  EXPECT_EQ(FabricEnergy(domain, weights(1, 0, BendingModel::TwoRing)).bending_hessian().size(), 0);
+}
+
+TEST(Energy, EvaluationIsDeterministic) {
+  const SqueezedCase squeezed;
+  const FabricEnergy energy(squeezed.domain, weights(0.2, 0.5, BendingModel::Quadratic));
+  const FabricEnergy twin(squeezed.domain, weights(0.2, 0.5, BendingModel::Quadratic));
+  Eigen::VectorXd g1, g2, g3;
+  const EnergyTerms t1 = energy.evaluate(squeezed.x, &g1);
+  const EnergyTerms t2 = energy.evaluate(squeezed.x, &g2);
+  const EnergyTerms t3 = twin.evaluate(squeezed.x, &g3);
+  EXPECT_EQ(t1.total, t2.total);
+  EXPECT_EQ(t1.repulsion, t3.repulsion);
+  EXPECT_EQ(t1.total, t3.total);
+  EXPECT_TRUE(g1 == g2);
+  EXPECT_TRUE(g1 == g3);
+  EXPECT_EQ(energy.evaluate(squeezed.x).total, t1.total);  // with or without gradient
+}
+
+TEST(Energy, SpringsCoverEdgesWithAFreeEnd) {
+  const EmbedDomain domain = grid_domain(5);
+  const FabricEnergy energy(domain, {});
+  // A 5 x 5 grid has 4 * 5 * 2 + 16 = 56 edges, 16 of them on the fixed boundary ring.
+  EXPECT_EQ(energy.springs().size(), 40u);
+  for (const auto& s : energy.springs()) {
+    EXPECT_TRUE(s.i >= domain.fixed_count || s.j >= domain.fixed_count);
+    const double du = domain.rest_uv[s.i][0] - domain.rest_uv[s.j][0];
+    const double dv = domain.rest_uv[s.i][1] - domain.rest_uv[s.j][1];
+    EXPECT_DOUBLE_EQ(s.rest_length, std::hypot(du, dv));
+  }
+}
+
+TEST(Energy, PositionsAndVariablesRoundTrip) {
+  const BentCase bent;
+  const FabricEnergy energy(bent.domain, {});
+  const std::vector<Vec3> positions = energy.positions(bent.x);
+  ASSERT_EQ(static_cast<int>(positions.size()), bent.domain.vertex_count());
+  EXPECT_EQ(positions[0], bent.domain.fixed_positions[0]);
+  EXPECT_EQ(positions[bent.domain.fixed_count][1], bent.x[1]);
+  EXPECT_TRUE(energy.variables(positions) == bent.x);
+}
+
+TEST(Energy, RejectsBadInput) {
+  const EmbedDomain domain = grid_domain(4);
+  const FabricEnergy energy(domain, {});
+  EXPECT_THROW(energy.evaluate(Eigen::VectorXd::Zero(5)), Error);
+  EnergyOptions negative;
+  negative.lambda = -1;
+  try {
+    FabricEnergy(domain, negative);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Usage);
+  }
+  EmbedDomain flipped = domain;
+  std::swap(flipped.faces[3][1], flipped.faces[3][2]);
+  try {
+    FabricEnergy(flipped, {});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::FillFailed);
+  }
+}
+
+}  // namespace
+}  // namespace foldfill

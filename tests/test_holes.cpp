@@ -1,2 +1,417 @@
-// placeholder while the stage is written
+// Boundary loops and hole selection on tiny meshes built in code, and on the
+// reference cases.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "foldfill/error.h"
+#include "foldfill/holes.h"
+#include "foldfill/io.h"
+#include "foldfill/topology.h"
+#include "test_support.h"
+
+namespace foldfill {
+namespace {
+
+using Cell = std::pair<int, int>;
+
+// A (cells x cells) grid of unit squares in the z = 0 plane, each split along
+// its diagonal, counter-clockwise seen from +z, without the `removed` cells.
+// Vertex (i, j) is j * (cells + 1) + i.
+Mesh grid(int cells, const std::set<Cell>& removed = {}) {
+  Mesh mesh;
+  const int row = cells + 1;
+  for (int j = 0; j < row; ++j) {
+    for (int i = 0; i < row; ++i) mesh.positions.push_back({double(i), double(j), 0.0});
+  }
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      if (removed.count({i, j})) continue;
+      const int a = j * row + i, b = a + 1, c = a + row + 1, d = a + row;
+      mesh.faces.push_back({a, b, c});
+      mesh.faces.push_back({a, c, d});
+    }
+  }
+  return mesh;
+}
+
+// An open cylinder of unit radius: `around` vertices per ring, `rings` rings
+// one unit apart; vertex k of ring r is r * around + k.
+Mesh tube(int around, int rings) {
+  Mesh mesh;
+  for (int r = 0; r < rings; ++r) {
+    for (int k = 0; k < around; ++k) {
+      const double angle = 2 * M_PI * k / around;
+      mesh.positions.push_back({std::cos(angle), std::sin(angle), double(r)});
+    }
+  }
+  for (int r = 0; r + 1 < rings; ++r) {
+    for (int k = 0; k < around; ++k) {
+      const int a = r * around + k, b = r * around + (k + 1) % around;
+      mesh.faces.push_back({a, b, b + around});
+      mesh.faces.push_back({a, b + around, a + around});
+    }
+  }
+  return mesh;
+}
+
+Mesh tetrahedron() {
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  mesh.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return mesh;
+}
+
+// Twice the signed area of a loop projected on the xy plane.
+double signed_area_xy(const BoundaryLoop& loop) {
+  double area = 0;
+  const size_t n = loop.positions.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3& p = loop.positions[i];
+    const Vec3& q = loop.positions[(i + 1) % n];
+    area += p[0] * q[1] - q[0] * p[1];
+  }
+  return area;
+}
+
+// The z component of the normal of triangle (a, b, c).
+double normal_z(const Mesh& mesh, int a, int b, int c) {
+  const Vec3 &p = mesh.positions[a], &q = mesh.positions[b], &r = mesh.positions[c];
+  return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+}
+
+HoleSelection by_default(int keep_open) {
+  HoleSelection selection;
+  selection.keep_open = keep_open;
+  return selection;
+}
+
+HoleSelection by_mode(HoleSelection::Mode mode) {
+  HoleSelection selection;
+  selection.mode = mode;
+  return selection;
+}
+
+HoleSelection by_ids(std::vector<int> ids) {
+  HoleSelection selection = by_mode(HoleSelection::Mode::Ids);
+  selection.ids = std::move(ids);
+  return selection;
+}
+
+HoleSelection near(Vec3 point) {
+  HoleSelection selection = by_mode(HoleSelection::Mode::Near);
+  selection.near = point;
+  return selection;
+}
+
+// The message of the Error of kind `kind` that `action` throws.
+template <typename Action>
+std::string error_of(ErrorKind kind, Action action) {
+  try {
+    action();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), kind) << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << "no error thrown";
+  return "";
+}
+
+using Ids = std::vector<int>;
+
+TEST(Holes, ClosedMeshHasNoLoops) {
+  const auto loops = find_boundary_loops(tetrahedron());
+  EXPECT_TRUE(loops.empty());
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_TRUE(choice.left_open.empty());
+  EXPECT_EQ(error_of(ErrorKind::Usage,
+                     [&] {
+                       select_holes(loops, near({0, 0, 0}), "t.obj");
+                     }),
+            "t.obj: no loop to select near a point (the mesh has no boundary)");
+}
+
+TEST(Holes, GridHasOneOuterLoop) {
+  const auto loops = find_boundary_loops(grid(3));
+  ASSERT_EQ(loops.size(), 1u);
+  const BoundaryLoop& loop = loops[0];
+  EXPECT_EQ(loop.id, 0);
+  EXPECT_EQ(loop.vertices, Ids({0, 4, 8, 12, 13, 14, 15, 11, 7, 3, 2, 1}));
+  EXPECT_DOUBLE_EQ(loop.length, 12);
+  EXPECT_DOUBLE_EQ(loop.mean_edge_length, 1);
+  EXPECT_DOUBLE_EQ(loop.bbox_diagonal, std::sqrt(18.0));
+  EXPECT_DOUBLE_EQ(loop.centroid[0], 1.5);
+  EXPECT_DOUBLE_EQ(loop.centroid[1], 1.5);
+  EXPECT_TRUE(loop.is_disk);
+  EXPECT_TRUE(loop.reason.empty());
+  EXPECT_LT(signed_area_xy(loop), 0) << "the missing region (outside) must be on the left";
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_EQ(choice.left_open, Ids{0});
+}
+
+TEST(Holes, GridWithOneHole) {
+  const Mesh mesh = grid(4, {{1, 1}});
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 2u);
+  EXPECT_EQ(loops[0].vertices.size(), 16u);
+  EXPECT_EQ(loops[1].vertices, Ids({6, 7, 12, 11}));
+  EXPECT_GT(signed_area_xy(loops[1]), 0) << "a hole runs counter-clockwise seen from +z";
+  EXPECT_DOUBLE_EQ(loops[1].length, 4);
+  EXPECT_DOUBLE_EQ(loops[1].bbox_diagonal, std::sqrt(2.0));
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_EQ(choice.fill, Ids{1});
+  EXPECT_EQ(choice.left_open, Ids{0});
+  EXPECT_TRUE(choice.warnings.empty());
+}
+
+TEST(Holes, GridWithTwoHoles) {
+  const Mesh mesh = grid(6, {{1, 1}, {4, 3}});
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 3u);
+  EXPECT_EQ(loops[1].vertices.front(), 8);   // (1, 1)
+  EXPECT_EQ(loops[2].vertices.front(), 25);  // (4, 3)
+  EXPECT_EQ(select_holes(loops, {}).fill, Ids({1, 2}));
+  const HoleChoice all = select_holes(loops, by_mode(HoleSelection::Mode::All));
+  EXPECT_EQ(all.fill, Ids({0, 1, 2}));
+  EXPECT_TRUE(all.left_open.empty());
+  const HoleChoice ids = select_holes(loops, by_ids({2, 0, 2}));
+  EXPECT_EQ(ids.fill, Ids({0, 2}));
+  EXPECT_EQ(ids.left_open, Ids{1});
+  EXPECT_EQ(select_holes(loops, near({4.6, 3.5, 0.3})).fill, Ids{2});
+  EXPECT_EQ(select_holes(loops, near({1.5, 1.5, 0})).fill, Ids{1});
+  EXPECT_EQ(select_holes(loops, near({-1, 3, 0})).fill, Ids{0});
+}
+
+// Filling each hole with a fan of triangles in loop order closes it with the
+// mesh's orientation: the topology stays consistent and only the outer loop
+// remains.
+TEST(Holes, LoopOrderOrientsNewFacesLikeTheMesh) {
+  Mesh mesh = grid(6, {{1, 1}, {2, 1}, {4, 3}});
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 3u);
+  const double hole_area[3] = {0, 2, 1};
+  for (int id : {1, 2}) {
+    const Ids& v = loops[id].vertices;
+    double doubled_area = 0;  // positive where the new faces face +z like the grid
+    for (size_t i = 1; i + 1 < v.size(); ++i) {
+      mesh.faces.push_back({v[0], v[i], v[i + 1]});
+      doubled_area += normal_z(mesh, v[0], v[i], v[i + 1]);
+    }
+    EXPECT_DOUBLE_EQ(doubled_area, 2 * hole_area[id]);
+  }
+  EXPECT_NO_THROW(build_edge_topology(mesh.faces, mesh.vertex_count()));
+  const auto closed = find_boundary_loops(mesh);
+  ASSERT_EQ(closed.size(), 1u);
+  EXPECT_EQ(closed[0].vertices, loops[0].vertices);
+}
+
+TEST(Holes, AnnulusDefaultLeavesTheLongerLoopOpen) {
+  const Mesh mesh = grid(4, {{1, 1}, {2, 1}, {1, 2}, {2, 2}});
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 2u);
+  EXPECT_DOUBLE_EQ(loops[0].length, 16);
+  EXPECT_DOUBLE_EQ(loops[1].length, 8);
+  EXPECT_EQ(default_outer_loops(loops), Ids{0});
+  HoleChoice choice = select_holes(loops, {});
+  EXPECT_EQ(choice.fill, Ids{1});
+  EXPECT_EQ(choice.left_open, Ids{0});
+  choice = select_holes(loops, by_default(0));
+  EXPECT_EQ(choice.fill, Ids({0, 1}));
+  EXPECT_EQ(select_holes(loops, near({2, 2, 0})).fill, Ids{1});
+  EXPECT_EQ(select_holes(loops, near({2, -0.5, 0})).fill, Ids{0});
+}
+
+TEST(Holes, TubeHasTwoEqualLoops) {
+  const auto loops = find_boundary_loops(tube(8, 4));
+  ASSERT_EQ(loops.size(), 2u);
+  EXPECT_EQ(loops[0].vertices.size(), 8u);
+  EXPECT_EQ(loops[1].vertices.front(), 24);
+  EXPECT_NEAR(loops[0].length, loops[1].length, 1e-12);
+  EXPECT_NEAR(loops[1].centroid[2], 3, 1e-12);
+  HoleChoice choice = select_holes(loops, by_default(2));
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_EQ(choice.left_open, Ids({0, 1}));
+  choice = select_holes(loops, by_default(1));
+  EXPECT_EQ(choice.fill, Ids{1});  // equal lengths: the lower id stays open
+  EXPECT_EQ(choice.left_open, Ids{0});
+  EXPECT_EQ(default_outer_loops(loops, 5), Ids({0, 1}));
+}
+
+TEST(Holes, BowtieLoopsAreNotDisks) {
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-2, 0, 0}, {0, -2, 0}};
+  mesh.faces = {{0, 1, 2}, {0, 3, 4}};
+  const auto loops = find_boundary_loops(mesh, "bowtie.obj");
+  ASSERT_EQ(loops.size(), 2u);
+  EXPECT_EQ(loops[0].vertices, Ids({0, 2, 1}));
+  EXPECT_EQ(loops[1].vertices, Ids({0, 4, 3}));
+  EXPECT_FALSE(loops[0].is_disk);
+  EXPECT_FALSE(loops[1].is_disk);
+  EXPECT_EQ(loops[0].reason, "touches loop 1 at vertex 0");
+  EXPECT_EQ(loops[1].reason, "touches loop 0 at vertex 0");
+
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_EQ(choice.left_open, Ids({0, 1}));
+  ASSERT_EQ(choice.warnings.size(), 1u);  // loop 1 is the longest: outer, left open anyway
+  EXPECT_EQ(choice.warnings[0],
+            "loop 0 is not a disk boundary (touches loop 1 at vertex 0): left open");
+  EXPECT_EQ(select_holes(loops, by_mode(HoleSelection::Mode::All)).warnings.size(), 2u);
+
+  EXPECT_EQ(error_of(ErrorKind::NotADisk, [&] { select_holes(loops, by_ids({0}), "bowtie.obj"); }),
+            "bowtie.obj: loop 0 is not a disk boundary (touches loop 1 at vertex 0)");
+  EXPECT_NE(error_of(ErrorKind::NotADisk,
+                     [&] {
+                       select_holes(loops, near({0.4, 0.4, 0}));
+                     })
+                .find("loop 0 is not a disk"),
+            std::string::npos);
+}
+
+// Two holes meeting at a corner form one loop through that vertex twice.
+TEST(Holes, HoleTouchingItselfIsNotADisk) {
+  const Mesh mesh = grid(4, {{1, 1}, {2, 2}});
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 2u);
+  EXPECT_TRUE(loops[0].is_disk);
+  const BoundaryLoop& hole = loops[1];
+  EXPECT_EQ(hole.vertices.size(), 8u);
+  EXPECT_EQ(std::count(hole.vertices.begin(), hole.vertices.end(), 12), 2);
+  EXPECT_FALSE(hole.is_disk);
+  EXPECT_EQ(hole.reason, "touches itself at vertex 12 (the surface is pinched there)");
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_EQ(choice.warnings.size(), 1u);
+  EXPECT_THROW(select_holes(loops, by_ids({1})), Error);
+}
+
+// A strip around a square whose two ends meet at one vertex (5); vertex 0 is
+// left unreferenced.
+TEST(Holes, PinchedStripTouchesItself) {
+  const Mesh mesh = grid(3, {{0, 0}, {1, 1}});
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(std::count(loops[0].vertices.begin(), loops[0].vertices.end(), 5), 2);
+  EXPECT_EQ(std::count(loops[0].vertices.begin(), loops[0].vertices.end(), 0), 0);
+  EXPECT_EQ(loops[0].reason, "touches itself at vertex 5 (the surface is pinched there)");
+}
+
+TEST(Holes, ClosedFanWithDanglingTriangleThrows) {
+  Mesh mesh = tetrahedron();
+  mesh.positions.push_back({-1, 0, 0});
+  mesh.positions.push_back({0, -1, 0});
+  mesh.faces.push_back({0, 4, 5});
+  EXPECT_EQ(error_of(ErrorKind::NonManifold, [&] { find_boundary_loops(mesh, "m.obj"); }),
+            "m.obj: vertex 0 is non-manifold (its faces form 2 separate fans)");
+}
+
+TEST(Holes, TwoTetrahedraSharingAVertexThrow) {
+  Mesh mesh = tetrahedron();
+  for (const Vec3& p : tetrahedron().positions) mesh.positions.push_back({-p[0], -p[1], -p[2]});
+  for (const Tri& f : tetrahedron().faces) mesh.faces.push_back({f[0] + 4, f[1] + 4, f[2] + 4});
+  for (Tri& f : mesh.faces) std::replace(f.begin(), f.end(), 4, 0);  // glue vertex 4 onto 0
+  EXPECT_NE(error_of(ErrorKind::NonManifold, [&] { find_boundary_loops(mesh); })
+                .find("vertex 0 is non-manifold (its faces form 2 separate fans)"),
+            std::string::npos);
+}
+
+TEST(Holes, NonManifoldEdgeThrows) {
+  Mesh mesh = grid(1);
+  mesh.positions.push_back({0.5, 0.5, 1});
+  mesh.faces.push_back({0, 3, 4});  // a third face on the diagonal (0, 3)
+  EXPECT_NE(error_of(ErrorKind::NonManifold, [&] { find_boundary_loops(mesh); })
+                .find("edge (0, 3) is shared by 3 faces"),
+            std::string::npos);
+}
+
+TEST(Holes, UnknownIdThrowsUsage) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  EXPECT_EQ(error_of(ErrorKind::Usage,
+                     [&] {
+                       select_holes(loops, by_ids({1, 7}), "g.obj");
+                     }),
+            "g.obj: no loop with id 7 (the mesh has 3 loops)");
+  EXPECT_THROW(select_holes(loops, by_ids({-1})), Error);
+}
+
+TEST(Holes, ManyHolesInALargeGrid) {
+  std::set<Cell> removed;
+  for (int j = 2; j < 200; j += 4) {
+    for (int i = 2; i < 200; i += 4) removed.insert({i, j});
+  }
+  const auto loops = find_boundary_loops(grid(200, removed));
+  ASSERT_EQ(loops.size(), removed.size() + 1);
+  for (size_t id = 1; id < loops.size(); ++id) {
+    EXPECT_EQ(loops[id].vertices.size(), 4u);
+    EXPECT_TRUE(loops[id].is_disk);
+  }
+  EXPECT_EQ(select_holes(loops, {}).fill.size(), removed.size());
+}
+
+// The reference cases: the hole loop has the documented size, the other loops
+// are the outer boundaries, and both the default and `near` pick the hole.
+TEST(Holes, ReferenceCases) {
+  FOLDFILL_REQUIRE_SHARED();
+  const auto folder = testing::shared_dir() / "data" / "reference";
+  std::ifstream file(folder / "cases.json");
+  ASSERT_TRUE(file) << "cannot open cases.json";
+  const nlohmann::json cases = nlohmann::json::parse(file)["cases"];
+  ASSERT_FALSE(cases.empty());
+  for (const auto& entry : cases) {
+    const std::string name = entry["file"];
+    SCOPED_TRACE(name);
+    const Mesh mesh = read_mesh((folder / name).string());
+    const auto loops = find_boundary_loops(mesh, name);
+    const int hole_vertex = entry["hole_vertex"];
+    const int outer_loops = entry["outer_loops"];
+
+    std::vector<int> holding;  // loops through hole_vertex
+    for (const BoundaryLoop& loop : loops) {
+      if (std::count(loop.vertices.begin(), loop.vertices.end(), hole_vertex)) {
+        holding.push_back(loop.id);
+      }
+    }
+    ASSERT_EQ(holding.size(), 1u);
+    const BoundaryLoop& hole = loops[holding[0]];
+    EXPECT_EQ(static_cast<int>(hole.vertices.size()), entry["hole_loop_size"].get<int>());
+    EXPECT_TRUE(hole.is_disk) << hole.reason;
+    EXPECT_EQ(static_cast<int>(loops.size()) - 1, outer_loops);
+
+    EXPECT_EQ(select_holes(loops, near(mesh.positions[hole_vertex]), name).fill, Ids{hole.id});
+    EXPECT_EQ(select_holes(loops, by_ids({hole.id}), name).fill, Ids{hole.id});
+
+    // The default keeps the longest loops open, so it finds the hole exactly
+    // when the hole is shorter than every outer boundary. It is not on
+    // paper1 and sim2, whose holes are longer: there it must leave the hole open
+    // (the user has to name it), never fill more than the other loops.
+    const bool hole_is_shortest = std::all_of(loops.begin(), loops.end(), [&](const auto& loop) {
+      return loop.id == hole.id || loop.length > hole.length;
+    });
+    const HoleChoice choice = select_holes(loops, by_default(outer_loops), name);
+    EXPECT_EQ(choice.fill.size(), 1u);
+    EXPECT_EQ(choice.left_open.size(), static_cast<size_t>(outer_loops));
+    EXPECT_EQ(choice.fill == Ids{hole.id}, hole_is_shortest);
+    EXPECT_TRUE(choice.warnings.empty());
+
+    std::cout << name << ": " << mesh.vertex_count() << " vertices, " << mesh.face_count()
+              << " faces, " << loops.size() << " loops:";
+    for (const BoundaryLoop& loop : loops) {
+      std::cout << " [id " << loop.id << (loop.id == hole.id ? " hole" : "") << ", "
+                << loop.vertices.size() << " vertices, length " << loop.length << "]";
+    }
+    std::cout << (hole_is_shortest ? "" : "; the default leaves the hole open") << "\n";
+  }
+}
+
+}  // namespace
+}  // namespace foldfill

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -18,9 +19,12 @@ inline std::filesystem::path shared_dir() {
   return std::filesystem::is_directory(dir / "data") ? dir : std::filesystem::path();
 }
 
-// A fresh, empty scratch folder for one test.
+// A fresh, empty scratch folder, private to this process and test (CTest runs
+// tests in parallel processes).
 inline std::filesystem::path scratch_dir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("foldfill_test_" + name);
+  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string owner = std::to_string(::getpid()) + "_" + (test ? test->name() : "none");
+  auto dir = std::filesystem::temp_directory_path() / ("foldfill_test_" + name + "_" + owner);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -31,6 +31,8 @@ struct EnergyTerms {
 // Precomputes everything that does not change during the minimisation (rest
 // lengths, the constant bending Hessian, repulsion radii). Variables are the
 // free vertices' positions, a vector of 3 * free_count (x, y, z interleaved).
+// evaluate() reuses scratch buffers of the object, so one object must not be
+// evaluated from two threads at once (each hole has its own energy object).
 class FabricEnergy {
  public:
   FabricEnergy(const EmbedDomain& domain, const EnergyOptions& options);
@@ -63,6 +65,11 @@ class FabricEnergy {
   std::vector<Spring> two_ring_springs_;  // bending springs of the two-ring model
   Eigen::SparseMatrix<double> bending_hessian_;
   std::vector<double> repulsion_radius_;  // per domain vertex
+  // Domain vertex adjacency (CSR, sorted): pairs joined by an edge do not repel.
+  std::vector<int> neighbour_start_, neighbours_;
+  // Scratch of evaluate(): all domain positions (fixed rows set once) and forces.
+  using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  mutable Points points_, forces_;
 };
 
 }  // namespace foldfill

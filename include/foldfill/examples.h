@@ -15,10 +15,11 @@ struct DevelopableMesh {
   std::vector<Vec2> flat;
 };
 
-// A rectangle of `width` x `height` (flat), triangulated on a regular grid with
-// about `edge_length` spacing, bent along rulings parallel to the flat y axis
-// so that its cross-section is z = amplitude * sin(2 pi folds x / width'):
-// `folds` sinusoidal folds across the width. Exactly developable.
+// A sheet bent along rulings parallel to y: its cross-section is the curve
+// z = amplitude * sin(2 pi folds x / width) for x in [0, width], so `folds`
+// sinusoidal folds run across it; y spans [0, height]. Triangulated on a grid
+// with about `edge_length` spacing (equal arc length steps across the folds).
+// Its flat width is the curve's length. Exactly developable.
 struct FoldedSheetOptions {
   double width = 4, height = 3, edge_length = 0.05;
   double amplitude = 0.25;

@@ -16,11 +16,12 @@ namespace foldfill {
 struct BoundaryLoop {
   int id = 0;                  // position in the list, loops sorted by first vertex
   std::vector<int> vertices;   // loop order, 0-based input indices
+  std::vector<Vec3> positions;  // positions of `vertices`, same order (used to select near a point)
   double length = 0;           // sum of edge lengths
   Vec3 centroid{};             // mean of the loop vertices
   double bbox_diagonal = 0;    // diagonal of the loop vertices' bounding box
   double mean_edge_length = 0;
-  bool is_disk = true;         // false: the loop passes a vertex twice (pinched)
+  bool is_disk = true;         // false: it passes a pinched vertex (touches itself or another loop)
   std::string reason;          // why it is not fillable, empty when it is
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,12 +17,23 @@
 
 namespace foldfill {
 
+// The prototype's weights, in the mesh's own units: its gradient step was
+// x -= step * (alpha grad E_I + 0.001 beta grad E_B + mu grad E_C). With h the
+// hole's length scale, that is our normalised energy with lambda =
+// 0.001 beta / (alpha h^2), repulsion = mu / alpha, and a normalised step of
+// step * alpha (see README, "Parameters").
+struct PrototypeWeights {
+  double alpha = 0.1, beta = 0.003, mu = 0.01, step = 0.5;
+};
+
 struct FillOptions {
   TriangulateOptions triangulate;
   ArapOptions arap;
   EnergyOptions energy;
   SolverOptions solver;
   std::vector<Obstacle> obstacles;  // in the mesh's units
+  // When set, replaces energy.lambda, energy.repulsion and solver.step per hole.
+  std::optional<PrototypeWeights> prototype;
   bool keep_flat = false;           // keep the flat strip and patch in the report
   // Called per hole and iteration with (loop id, progress); false cancels.
   std::function<bool(int, const SolverProgress&)> progress;

@@ -1,6 +1,7 @@
 // Quality figures of a filled patch.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "foldfill/mesh.h"
@@ -18,9 +19,11 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
                                         const std::vector<Tri>& faces,
                                         const std::vector<int>& vertices);
 
-// Number of pairs of triangles among `faces` that intersect, ignoring pairs
-// that share a vertex and only touch there or along the shared edge.
-int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
+// Number of pairs of triangles among `faces` that intersect (CGAL's exact
+// test: neighbours that only share their common vertex or edge do not count),
+// counting only pairs with at least one face of index >= `counted_from`.
+int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                             int counted_from = 0);
 
 double total_area(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
 

@@ -1,0 +1,20 @@
+// The smooth baseline: CGAL's triangulate_refine_and_fair_hole (Liepa 2003,
+// minimal-area triangulation, refinement, then fairing). Offered as
+// `foldfill fill --method liepa` and used by the benchmarks for comparison.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "foldfill/holes.h"
+#include "foldfill/inpaint.h"
+
+namespace foldfill {
+
+// Fills the loops `fill_ids` of `loops` the smooth way. Reports per hole the
+// counts, the total time and whether the fairing succeeded (a hole whose
+// fairing fails keeps its refined triangulation).
+FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                            const std::vector<int>& fill_ids, const std::string& source = "mesh");
+
+}  // namespace foldfill

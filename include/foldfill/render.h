@@ -1,0 +1,44 @@
+// A small software renderer for looking at fills: shaded meshes, new faces
+// highlighted, written as PNG. For inspection only; no GPU needed.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "foldfill/mesh.h"
+
+namespace foldfill {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // row-major, top row first
+};
+
+struct Camera {
+  Vec3 target{};           // looked-at point
+  double radius = 1;       // half the visible extent
+  double azimuth_deg = 30;
+  double elevation_deg = 30;
+};
+
+// A camera that frames the bounding box of `positions` (or of the vertices
+// of `faces` when it is non-empty).
+Camera frame(const std::vector<Vec3>& positions, const std::vector<Tri>& faces = {});
+
+struct RenderOptions {
+  int width = 640, height = 480;
+  int highlight_from = -1;  // faces with index >= this are drawn in orange (-1: none)
+  bool wireframe = true;    // darken triangle edges
+};
+
+// Orthographic, z-buffered, two-sided Lambert shading.
+Image render(const Mesh& mesh, const Camera& camera, const RenderOptions& options = {});
+
+// Images next to each other, left to right (heights must match).
+Image side_by_side(const std::vector<Image>& images);
+
+// Throws Error(CannotWrite).
+void write_png(const Image& image, const std::string& path);
+
+}  // namespace foldfill

@@ -1,0 +1,94 @@
+// The smooth baseline with CGAL (one of the few translation units that include
+// CGAL's mesh processing).
+#include "foldfill/liepa.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <chrono>
+#include <iterator>
+
+#include "foldfill/error.h"
+
+namespace foldfill {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+SurfaceMesh to_surface_mesh(const Mesh& mesh, const std::string& source) {
+  SurfaceMesh sm;
+  sm.reserve(mesh.vertex_count(), 3 * mesh.face_count() / 2, mesh.face_count());
+  for (const Vec3& p : mesh.positions) sm.add_vertex(Kernel::Point_3(p[0], p[1], p[2]));
+  for (const Tri& f : mesh.faces) {
+    if (sm.add_face(SurfaceMesh::Vertex_index(f[0]), SurfaceMesh::Vertex_index(f[1]),
+                    SurfaceMesh::Vertex_index(f[2])) == SurfaceMesh::null_face()) {
+      throw Error(ErrorKind::NonManifold, source + ": CGAL cannot build a surface mesh from it");
+    }
+  }
+  return sm;
+}
+
+// The border half-edge of `sm` from loop vertex 0 to loop vertex 1.
+SurfaceMesh::Halfedge_index border_halfedge(const SurfaceMesh& sm, const BoundaryLoop& loop) {
+  const SurfaceMesh::Vertex_index from(loop.vertices[0]), to(loop.vertices[1]);
+  for (auto h : CGAL::halfedges_around_source(from, sm)) {
+    if (sm.target(h) == to && sm.is_border(h)) return h;
+  }
+  throw Error(ErrorKind::Internal,
+              "liepa: loop " + std::to_string(loop.id) + " has no border half-edge");
+}
+
+}  // namespace
+
+FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                            const std::vector<int>& fill_ids, const std::string& source) {
+  const auto start = std::chrono::steady_clock::now();
+  SurfaceMesh sm = to_surface_mesh(mesh, source);
+  FillResult result{mesh, {}};
+  for (int id : fill_ids) {
+    const BoundaryLoop& loop = loops.at(id);
+    HoleReport report;
+    report.loop_id = id;
+    report.loop_vertex_count = static_cast<int>(loop.vertices.size());
+    const auto hole_start = std::chrono::steady_clock::now();
+    std::vector<SurfaceMesh::Face_index> faces;
+    std::vector<SurfaceMesh::Vertex_index> vertices;
+    const auto [fair, patch_faces, patch_vertices] = PMP::triangulate_refine_and_fair_hole(
+        sm, border_halfedge(sm, loop), std::back_inserter(faces), std::back_inserter(vertices));
+    (void)patch_faces;
+    (void)patch_vertices;
+    report.seconds.total =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - hole_start).count();
+    report.filled = !faces.empty();
+    report.stop_reason = fair ? "faired" : "fairing failed";
+    if (!report.filled)
+      report.reason = source + ": loop " + std::to_string(id) + ": CGAL found no triangulation";
+    report.patch_vertex_count = static_cast<int>(vertices.size());
+    report.patch_face_count = static_cast<int>(faces.size());
+    result.report.holes.push_back(report);
+  }
+  // CGAL appends vertices and faces after the existing ones.
+  for (auto v : sm.vertices()) {
+    if (static_cast<int>(v.idx()) < mesh.vertex_count()) continue;
+    const auto& p = sm.point(v);
+    result.mesh.positions.push_back({p.x(), p.y(), p.z()});
+  }
+  for (auto f : sm.faces()) {
+    if (static_cast<int>(f.idx()) < mesh.face_count()) continue;
+    Tri t;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm))
+      t[k++] = static_cast<int>(v.idx());
+    result.mesh.faces.push_back(t);
+    if (!result.mesh.face_texcoords.empty()) result.mesh.face_texcoords.push_back({-1, -1, -1});
+    if (!result.mesh.face_normals.empty()) result.mesh.face_normals.push_back({-1, -1, -1});
+  }
+  result.report.seconds_total =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace foldfill

@@ -1,0 +1,165 @@
+// Software rasteriser for inspection pictures.
+#include "foldfill/render.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#include "foldfill/error.h"
+#include "foldfill/file.h"
+
+namespace foldfill {
+namespace {
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 normalized(const Vec3& a) {
+  const double n = std::sqrt(dot(a, a));
+  return n > 0 ? Vec3{a[0] / n, a[1] / n, a[2] / n} : Vec3{0, 0, 0};
+}
+
+// Orthonormal view basis: right, up, toward the viewer.
+struct View {
+  Vec3 right, up, back;
+};
+
+View view_of(const Camera& camera) {
+  const double az = camera.azimuth_deg * M_PI / 180, el = camera.elevation_deg * M_PI / 180;
+  const Vec3 back{std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)};
+  const Vec3 right = normalized(cross({0, 1, 0}, back));
+  return {right, cross(back, right), back};
+}
+
+}  // namespace
+
+Camera frame(const std::vector<Vec3>& positions, const std::vector<Tri>& faces) {
+  Vec3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+          std::numeric_limits<double>::max()};
+  Vec3 hi{-lo[0], -lo[1], -lo[2]};
+  auto include = [&](const Vec3& p) {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  };
+  if (faces.empty()) {
+    for (const Vec3& p : positions) include(p);
+  } else {
+    for (const Tri& f : faces) {
+      for (int v : f) include(positions[v]);
+    }
+  }
+  Camera camera;
+  camera.target = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+  camera.radius = 0.55 * std::sqrt(dot(sub(hi, lo), sub(hi, lo)));
+  if (!(camera.radius > 0)) camera.radius = 1;
+  return camera;
+}
+
+Image render(const Mesh& mesh, const Camera& camera, const RenderOptions& options) {
+  Image image{options.width, options.height, {}};
+  image.rgb.assign(static_cast<size_t>(image.width) * image.height * 3, 255);
+  std::vector<double> depth(static_cast<size_t>(image.width) * image.height,
+                            -std::numeric_limits<double>::infinity());
+  const View view = view_of(camera);
+  const double scale = 0.5 * std::min(image.width, image.height) / camera.radius;
+  // Screen coordinates (pixels, y down) and depth (larger is nearer).
+  std::vector<Vec3> screen(mesh.positions.size());
+  for (size_t v = 0; v < screen.size(); ++v) {
+    const Vec3 d = sub(mesh.positions[v], camera.target);
+    screen[v] = {image.width / 2.0 + scale * dot(d, view.right),
+                 image.height / 2.0 - scale * dot(d, view.up), dot(d, view.back)};
+  }
+  const Vec3 light = normalized({view.right[0] * 0.3 + view.up[0] * 0.5 + view.back[0],
+                                 view.right[1] * 0.3 + view.up[1] * 0.5 + view.back[1],
+                                 view.right[2] * 0.3 + view.up[2] * 0.5 + view.back[2]});
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const Tri& t = mesh.faces[f];
+    const Vec3 &a = screen[t[0]], &b = screen[t[1]], &c = screen[t[2]];
+    const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if (std::abs(area) < 1e-12) continue;
+    const Vec3 normal = normalized(cross(sub(mesh.positions[t[1]], mesh.positions[t[0]]),
+                                         sub(mesh.positions[t[2]], mesh.positions[t[0]])));
+    const double shade = 0.25 + 0.75 * std::abs(dot(normal, light));
+    const bool highlighted = options.highlight_from >= 0 && f >= options.highlight_from;
+    const double base[3] = {highlighted ? 240.0 : 200.0, highlighted ? 140.0 : 205.0,
+                            highlighted ? 40.0 : 215.0};
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a[0], b[0], c[0]}))));
+    const int x1 =
+        std::min(image.width - 1, static_cast<int>(std::ceil(std::max({a[0], b[0], c[0]}))));
+    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a[1], b[1], c[1]}))));
+    const int y1 =
+        std::min(image.height - 1, static_cast<int>(std::ceil(std::max({a[1], b[1], c[1]}))));
+    // Heights of the triangle over each edge, in pixels, to darken edges.
+    const double edge_len[3] = {std::hypot(c[0] - b[0], c[1] - b[1]),
+                                std::hypot(a[0] - c[0], a[1] - c[1]),
+                                std::hypot(b[0] - a[0], b[1] - a[1])};
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const double px = x + 0.5, py = y + 0.5;
+        const double w0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
+        const double w1 = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
+        const double w2 = 1 - w0 - w1;
+        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+        const double z = w0 * a[2] + w1 * b[2] + w2 * c[2];
+        const size_t pixel = static_cast<size_t>(y) * image.width + x;
+        if (z <= depth[pixel]) continue;
+        depth[pixel] = z;
+        const double distance_to_edge =
+            std::min({w0 * std::abs(area) / edge_len[0], w1 * std::abs(area) / edge_len[1],
+                      w2 * std::abs(area) / edge_len[2]});
+        const double line = options.wireframe && distance_to_edge < 0.6 ? 0.7 : 1.0;
+        for (int k = 0; k < 3; ++k) {
+          image.rgb[3 * pixel + k] =
+              static_cast<std::uint8_t>(std::clamp(base[k] * shade * line, 0.0, 255.0));
+        }
+      }
+    }
+  }
+  return image;
+}
+
+Image side_by_side(const std::vector<Image>& images) {
+  Image out;
+  for (const Image& image : images) {
+    out.width += image.width;
+    out.height = std::max(out.height, image.height);
+  }
+  out.rgb.assign(static_cast<size_t>(out.width) * out.height * 3, 255);
+  int left = 0;
+  for (const Image& image : images) {
+    for (int y = 0; y < image.height; ++y) {
+      std::copy_n(image.rgb.begin() + static_cast<size_t>(y) * image.width * 3, image.width * 3,
+                  out.rgb.begin() + (static_cast<size_t>(y) * out.width + left) * 3);
+    }
+    left += image.width;
+  }
+  return out;
+}
+
+void write_png(const Image& image, const std::string& path) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width);
+  png.height = static_cast<png_uint_32>(image.height);
+  png.format = PNG_FORMAT_RGB;
+  png_alloc_size_t size = 0;
+  if (!png_image_write_get_memory_size(png, size, 0, image.rgb.data(), 0, nullptr)) {
+    throw Error(ErrorKind::CannotWrite, path + ": cannot encode PNG");
+  }
+  std::string bytes(size, '\0');
+  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.rgb.data(), 0, nullptr)) {
+    throw Error(ErrorKind::CannotWrite, path + ": cannot encode PNG");
+  }
+  bytes.resize(size);
+  write_file_atomically(path, bytes);
+}
+
+}  // namespace foldfill
