@@ -113,9 +113,12 @@ Eigen::MatrixX3d initial_guess(const EmbedDomain& domain) {
       placed.col(i) = Eigen::Vector3d(domain.fixed_positions[i].data());
     }
     const Eigen::Matrix4d similarity = Eigen::umeyama(flat, placed, true);
-    x = ((x * similarity.topLeftCorner<3, 3>().transpose()).rowwise() +
-         similarity.topRightCorner<3, 1>().transpose())
-            .eval();
+    // A degenerate loop (all points on a line) has no best similarity: then
+    // the flat patch itself is the start.
+    if (similarity.allFinite())
+      x = ((x * similarity.topLeftCorner<3, 3>().transpose()).rowwise() +
+           similarity.topRightCorner<3, 1>().transpose())
+              .eval();
   }
   for (int i = 0; i < domain.fixed_count; ++i)
     x.row(i) = Eigen::RowVector3d(domain.fixed_positions[i].data());

@@ -163,6 +163,36 @@ double distance(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 }
 
+// Sum of the face angles at each vertex in `wanted` (others stay 0): one pass
+// over the faces, angles computed only at the wanted corners.
+std::vector<double> angle_sums(const Mesh& mesh, const std::vector<char>& wanted) {
+  std::vector<double> sums(mesh.positions.size(), 0.0);
+  for (const Tri& f : mesh.faces) {
+    for (int k = 0; k < 3; ++k) {
+      if (!wanted[f[k]]) continue;
+      const Vec3& p = mesh.positions[f[k]];
+      const Vec3& a = mesh.positions[f[(k + 1) % 3]];
+      const Vec3& b = mesh.positions[f[(k + 2) % 3]];
+      const Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+      const Vec3 cross{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+      sums[f[k]] += std::atan2(std::hypot(cross[0], cross[1], cross[2]),
+                               u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+    }
+  }
+  return sums;
+}
+
+void measure_turning(const Mesh& mesh, std::vector<BoundaryLoop>& loops) {
+  std::vector<char> on_loop(mesh.positions.size(), 0);
+  for (const BoundaryLoop& loop : loops) {
+    for (int v : loop.vertices) on_loop[v] = 1;
+  }
+  const std::vector<double> sums = angle_sums(mesh, on_loop);
+  for (BoundaryLoop& loop : loops) {
+    for (int v : loop.vertices) loop.turning += sums[v] - M_PI;
+  }
+}
+
 BoundaryLoop make_loop(int id, std::vector<int> vertices, const std::vector<Vec3>& positions) {
   BoundaryLoop loop;
   loop.id = id;
@@ -310,6 +340,7 @@ std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::strin
     loops.push_back(make_loop(static_cast<int>(loops.size()), std::move(cycle), mesh.positions));
   }
   flag_pinched_loops(loops, pinched);
+  measure_turning(mesh, loops);
   return loops;
 }
 
@@ -323,6 +354,8 @@ std::vector<int> default_outer_loops(const std::vector<BoundaryLoop>& loops, int
   return order;
 }
 
+bool turns_like_a_hole(const BoundaryLoop& loop) { return loop.turning > M_PI; }
+
 HoleChoice select_holes(const std::vector<BoundaryLoop>& loops, const HoleSelection& selection,
                         const std::string& source) {
   using Mode = HoleSelection::Mode;
@@ -334,6 +367,9 @@ HoleChoice select_holes(const std::vector<BoundaryLoop>& loops, const HoleSelect
     std::vector<char> outer(loops.size(), 0);
     if (selection.mode == Mode::Default) {
       for (int id : default_outer_loops(loops, selection.keep_open)) outer[id] = 1;
+    }
+    if (selection.mode == Mode::Auto) {
+      for (size_t id = 0; id < loops.size(); ++id) outer[id] = !turns_like_a_hole(loops[id]);
     }
     for (size_t id = 0; id < loops.size(); ++id) {
       if (outer[id]) continue;

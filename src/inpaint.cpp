@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <exception>
+#include <optional>
 
 #include "foldfill/domain.h"
 #include "foldfill/error.h"
@@ -15,6 +16,8 @@ namespace foldfill {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+constexpr int kRepulsionRetries = 2;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -62,7 +65,12 @@ std::vector<Tri> patch_faces(const EmbedDomain& domain) {
 
 void apply_prototype_weights(const PrototypeWeights& w, double length_scale, EnergyOptions& energy,
                              SolverOptions& solver) {
-  energy.lambda = 0.001 * w.beta / (w.alpha * length_scale * length_scale);
+  // The quadratic bending energy is scale-free and the prototype scaled its
+  // gradient by 0.001; two-ring springs scale like the edge springs (length^2)
+  // and were not scaled.
+  energy.lambda = energy.bending == BendingModel::TwoRing
+                      ? w.beta / w.alpha
+                      : 0.001 * w.beta / (w.alpha * length_scale * length_scale);
   energy.repulsion = w.mu / w.alpha;
   solver.step = w.step * w.alpha;
 }
@@ -110,7 +118,6 @@ HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOp
   SolverOptions solver = options.solver;
   if (options.prototype)
     apply_prototype_weights(*options.prototype, domain.length_scale, energy_options, solver);
-  const FabricEnergy energy(domain, energy_options);
   std::vector<Obstacle> obstacles;
   for (const Obstacle& o : options.obstacles) {
     obstacles.push_back(normalized(o, domain.origin, domain.length_scale));
@@ -118,13 +125,29 @@ HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOp
   if (options.progress) {
     solver.progress = [&](const SolverProgress& p) { return options.progress(loop.id, p); };
   }
-  const SolverResult solved = minimize_energy(energy, obstacles, initial, solver);
+  // Vertex repulsion prevents most self-intersections, but a fold under
+  // pressure can slip through between vertices. When the result intersects
+  // itself, minimise again from the ARAP state with ten times the repulsion.
+  std::optional<FabricEnergy> energy;
+  SolverResult solved;
+  for (int attempt = 0;; ++attempt) {
+    energy.emplace(domain, energy_options);
+    solved = minimize_energy(*energy, obstacles, initial, solver);
+    report.iterations += solved.iterations;
+    report.self_intersections =
+        count_self_intersections(solved.positions, domain.faces, domain.strip_face_count);
+    if (report.self_intersections == 0 || attempt == kRepulsionRetries ||
+        solved.stop_reason == "cancelled") {
+      break;
+    }
+    energy_options.repulsion = std::max(10 * energy_options.repulsion, 1.0);
+  }
+  report.repulsion = energy_options.repulsion;
   report.seconds.optimize = seconds_since(stage);
-  report.iterations = solved.iterations;
   report.stop_reason = solved.stop_reason;
 
-  const PatchState after_arap = measure(energy, initial);
-  const PatchState final_state = measure(energy, solved.positions);
+  const PatchState after_arap = measure(*energy, initial);
+  const PatchState final_state = measure(*energy, solved.positions);
   report.energy_after_arap = after_arap.energy;
   report.energy_final = final_state.energy;
   report.gaussian_mean_abs_after_arap = after_arap.curvature.mean_abs;
@@ -133,8 +156,6 @@ HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOp
   report.gaussian_variance_final = final_state.curvature.variance;
   report.edge_length_rms_rel_after_arap = after_arap.edge_length_rms_rel;
   report.edge_length_rms_rel_final = final_state.edge_length_rms_rel;
-  report.self_intersections =
-      count_self_intersections(solved.positions, domain.faces, domain.strip_face_count);
   const double scale2 = domain.length_scale * domain.length_scale;
   report.area_ratio_to_flat =
       total_area(solved.positions, patch_faces(domain)) * scale2 / patch.area;

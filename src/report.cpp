@@ -57,6 +57,7 @@ nlohmann::json to_json(const HoleReport& hole) {
        {{"after_arap", hole.edge_length_rms_rel_after_arap},
         {"final", hole.edge_length_rms_rel_final}}},
       {"self_intersections", hole.self_intersections},
+      {"repulsion", hole.repulsion},
       {"flat_area", hole.flat_area},
       {"area_ratio_to_flat", hole.area_ratio_to_flat},
       {"length_scale", hole.length_scale},

@@ -404,6 +404,17 @@ TEST(Energy, PositionsAndVariablesRoundTrip) {
   EXPECT_TRUE(energy.variables(positions) == bent.x);
 }
 
+// A diverged solver state must give a non-finite energy, not a crash or a hang.
+TEST(Energy, NonFinitePositionsGiveNonFiniteEnergy) {
+  const BentCase bent;
+  const FabricEnergy energy(bent.domain, weights(0.1, 0.1, BendingModel::Quadratic));
+  for (double bad : {std::nan(""), HUGE_VAL, 1e300}) {
+    Eigen::VectorXd x = bent.x, g;
+    x[4] = bad;
+    EXPECT_FALSE(std::isfinite(energy.evaluate(x, &g).total)) << bad;
+  }
+}
+
 TEST(Energy, RejectsBadInput) {
   const EmbedDomain domain = grid_domain(4);
   const FabricEnergy energy(domain, {});

@@ -247,6 +247,22 @@ TEST(Holes, TubeHasTwoEqualLoops) {
   EXPECT_EQ(default_outer_loops(loops, 5), Ids({0, 1}));
 }
 
+// Gauss-Bonnet: a hole in a flat sheet turns by +2 pi, the sheet's outer edge
+// by -2 pi, a tube's ends by 0; Auto fills only what turns like a hole.
+TEST(Holes, TurningTellsHolesFromOuterEdges) {
+  const auto sheet = find_boundary_loops(grid(6, {{1, 1}, {2, 1}, {4, 3}}));
+  ASSERT_EQ(sheet.size(), 3u);
+  EXPECT_NEAR(sheet[0].turning, -2 * M_PI, 1e-9);
+  EXPECT_NEAR(sheet[1].turning, 2 * M_PI, 1e-9);
+  EXPECT_NEAR(sheet[2].turning, 2 * M_PI, 1e-9);
+  EXPECT_EQ(select_holes(sheet, by_mode(HoleSelection::Mode::Auto)).fill, Ids({1, 2}));
+  const auto ends = find_boundary_loops(tube(16, 4));
+  ASSERT_EQ(ends.size(), 2u);
+  EXPECT_NEAR(ends[0].turning, 0, 1e-9);
+  EXPECT_NEAR(ends[1].turning, 0, 1e-9);
+  EXPECT_TRUE(select_holes(ends, by_mode(HoleSelection::Mode::Auto)).fill.empty());
+}
+
 TEST(Holes, BowtieLoopsAreNotDisks) {
   Mesh mesh;
   mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-2, 0, 0}, {0, -2, 0}};
@@ -402,12 +418,15 @@ TEST(Holes, ReferenceCases) {
     EXPECT_EQ(choice.left_open.size(), static_cast<size_t>(outer_loops));
     EXPECT_EQ(choice.fill == Ids{hole.id}, hole_is_shortest);
     EXPECT_TRUE(choice.warnings.empty());
+    // The turning of the loops tells the hole from the outer edges on every case.
+    EXPECT_EQ(select_holes(loops, by_mode(HoleSelection::Mode::Auto), name).fill, Ids{hole.id});
 
     std::cout << name << ": " << mesh.vertex_count() << " vertices, " << mesh.face_count()
               << " faces, " << loops.size() << " loops:";
     for (const BoundaryLoop& loop : loops) {
       std::cout << " [id " << loop.id << (loop.id == hole.id ? " hole" : "") << ", "
-                << loop.vertices.size() << " vertices, length " << loop.length << "]";
+                << loop.vertices.size() << " vertices, length " << loop.length << ", turning "
+                << loop.turning << "]";
     }
     std::cout << (hole_is_shortest ? "" : "; the default leaves the hole open") << "\n";
   }

@@ -17,7 +17,7 @@ enum class BendingModel { Quadratic, TwoRing };
 struct EnergyOptions {
   double lambda = 0.03;       // bending weight relative to the isometric term
   BendingModel bending = BendingModel::Quadratic;
-  double repulsion = 0.1;     // kappa, relative to the isometric term
+  double repulsion = 1.0;     // kappa, relative to the isometric term
   double repulsion_radius = 1 / 1.3;  // r_i = shortest incident rest edge * this
 };
 

@@ -21,6 +21,11 @@ struct BoundaryLoop {
   Vec3 centroid{};             // mean of the loop vertices
   double bbox_diagonal = 0;    // diagonal of the loop vertices' bounding box
   double mean_edge_length = 0;
+  // Total geodesic turning along the loop, sum over its vertices of (angle sum
+  // of the faces at the vertex - pi), in radians. By Gauss-Bonnet it is about
+  // 2 pi for a hole in nearly developable cloth (the missing piece is a disk),
+  // about -2 pi for the outer edge of a sheet and about 0 for a sleeve's end.
+  double turning = 0;
   bool is_disk = true;         // false: it passes a pinched vertex (touches itself or another loop)
   std::string reason;          // why it is not fillable, empty when it is
 };
@@ -34,7 +39,9 @@ std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::strin
 
 // How the user picks the loops to fill.
 struct HoleSelection {
-  enum class Mode { Default, All, Ids, Near };
+  // Default: all but the `keep_open` longest loops. Auto: the loops that turn
+  // like a hole (turning > pi), whatever their length.
+  enum class Mode { Default, All, Ids, Near, Auto };
   Mode mode = Mode::Default;
   std::vector<int> ids;  // Mode::Ids
   Vec3 near{};           // Mode::Near: the loop closest to this point
@@ -56,5 +63,8 @@ HoleChoice select_holes(const std::vector<BoundaryLoop>& loops, const HoleSelect
 
 // Ids of the loops the default selection leaves open (the `keep_open` longest).
 std::vector<int> default_outer_loops(const std::vector<BoundaryLoop>& loops, int keep_open = 1);
+
+// Whether a loop turns like the boundary of a missing disk (turning > pi).
+bool turns_like_a_hole(const BoundaryLoop& loop);
 
 }  // namespace foldfill

@@ -60,6 +60,7 @@ struct HoleReport {
   double gaussian_mean_abs_final = 0, gaussian_variance_final = 0;
   double edge_length_rms_rel_after_arap = 0, edge_length_rms_rel_final = 0;
   int self_intersections = 0;
+  double repulsion = 0;            // the repulsion weight finally used (raised on intersections)
   double flat_area = 0;            // area of the flat patch (mesh units)
   double area_ratio_to_flat = 0;   // 3D patch area / flat patch area
   double length_scale = 0;         // the hole's unit (mean loop edge length)

@@ -28,6 +28,9 @@ struct SolverOptions {
   double relative_energy_tol = 1e-9;  // stop when |dE| / E falls below this ...
   double gradient_tol = 1e-6;         // ... or the RMS gradient per vertex falls below this
   double time_limit_seconds = 0;      // 0: none
+  // Fast: no vertex moves further than this in one step (normalised units), so
+  // that the repulsion sees vertices approach before they pass each other.
+  double max_displacement = 0.1;
   // Called every iteration; returning false cancels (the best state is kept).
   std::function<bool(const SolverProgress&)> progress;
 };

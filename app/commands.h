@@ -1,0 +1,93 @@
+// The `fill` command of the CLI, shared by app/main.cpp (argument parsing,
+// one file, demo), app/fill.cpp (filling and writing one mesh) and
+// app/batch.cpp (several files or a folder).
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "foldfill/holes.h"
+#include "foldfill/inpaint.h"
+
+namespace foldfill::cli {
+
+// Exit code of a batch in which some files failed (the library's own codes,
+// ErrorKind, stop at 10).
+constexpr int kBatchFailedExitCode = 11;
+
+// Options of the hole selection, shared by `holes` and `fill`.
+struct SelectionArgs {
+  std::string holes;  // "all" or "0,2"
+  std::vector<double> near;
+  int keep_open = 1;
+
+  // Throws Error(Usage) for a malformed --holes list.
+  HoleSelection selection() const;
+};
+
+struct FillArgs {
+  std::vector<std::string> inputs;  // mesh files and folders
+  std::string output;               // a mesh file, or the output folder of a batch
+  std::string report, obstacles, flat_dir;
+  std::string format;  // "obj", "ply", "off" or "stl": extension of outputs named after inputs
+  int jobs = 1;        // files filled at the same time in a batch
+  SelectionArgs selection;
+  double lambda = FillOptions{}.energy.lambda;
+  double shrink = FillOptions{}.arap.shrink;
+  double density = FillOptions{}.triangulate.density;
+  double repulsion = FillOptions{}.energy.repulsion;
+  std::string method = "foldfill", bending = "quadratic", solver = "fast", preset;
+  PrototypeWeights prototype;
+  int max_iterations = FillOptions{}.solver.max_iterations;
+  double time_limit = 0;
+  bool quiet = false, ascii = false;
+};
+
+// One mesh's loops, the choice of those to fill, and the fill's report.
+struct FileFill {
+  std::vector<BoundaryLoop> loops;
+  HoleChoice choice;
+  FillReport report;
+
+  int failed_hole_count() const;
+};
+
+using ProgressCallback = std::function<bool(int, const SolverProgress&)>;
+
+// The loops of `mesh` (named `source` in messages) and the ones `selection`
+// picks. Throws like find_boundary_loops and select_holes.
+FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection);
+
+// Fills the holes chosen in `fill` as `args` say, writes the mesh to `output`
+// and, when `flat_dir` is set, each hole's flat strip and patch into it; stores
+// the report in `fill`. A hole that cannot be filled is left open and
+// reported. Throws Error(CannotWrite) when an output cannot be written.
+void fill_and_write(const Mesh& mesh, const std::string& source, const std::string& output,
+                    const std::string& flat_dir, const FillArgs& args,
+                    const ProgressCallback& progress, FileFill& fill);
+
+// The JSON report of one filled file (README, "Report").
+nlohmann::json file_report(const FileFill& fill, const std::string& source,
+                           const std::string& output);
+
+// `fill` of one mesh: fills, writes the output and the report (with
+// `extra_report` merged in), prints progress and a summary. Returns the exit
+// code (0, or 9 when a hole could not be filled).
+int fill_single(const Mesh& mesh, const std::string& source, const std::string& output,
+                const FillArgs& args, const nlohmann::json& extra_report = {});
+
+// Where `fill` with one input file writes: `args.output`, or a file named
+// like the input inside it when it is a folder. Throws Error(Usage) when
+// --format contradicts the output's extension or the output is the input.
+std::string single_output_path(const std::string& input, const FillArgs& args);
+
+// `fill` with several inputs or a folder: each file filled and written into
+// the output folder, a summary, the batch report. Returns the exit code (0, or
+// kBatchFailedExitCode when a file failed). Throws Error(Usage) before any
+// work for an output folder that is an input folder or two inputs that would
+// be written to the same file.
+int run_batch(const FillArgs& args);
+
+}  // namespace foldfill::cli

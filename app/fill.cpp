@@ -1,0 +1,183 @@
+// Filling and writing one mesh for the `fill` and `demo` commands, and the
+// one-file run with its progress line and summary.
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+#include <sstream>
+
+#include "commands.h"
+#include "foldfill/error.h"
+#include "foldfill/file.h"
+#include "foldfill/io.h"
+#include "foldfill/liepa.h"
+#include "foldfill/obstacles.h"
+#include "foldfill/report.h"
+
+namespace fs = std::filesystem;
+
+namespace foldfill::cli {
+namespace {
+
+// Progress on a terminal: one line rewritten at most ten times a second.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool enabled) : enabled_(enabled) {}
+  bool operator()(int loop_id, const SolverProgress& p) {
+    if (!enabled_) return true;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::milliseconds(100)) return true;
+    last_ = now;
+    fmt::print(stderr, "\r\033[Kloop {}: iteration {}, energy {:.6g}", loop_id, p.iteration,
+               p.energy);
+    dirty_ = true;
+    return true;
+  }
+  void finish() {
+    if (dirty_) fmt::print(stderr, "\r\033[K");
+    dirty_ = false;
+  }
+
+ private:
+  bool enabled_;
+  bool dirty_ = false;
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+FillOptions make_fill_options(const FillArgs& args) {
+  FillOptions options;
+  options.energy.lambda = args.lambda;
+  options.energy.repulsion = args.repulsion;
+  options.energy.bending =
+      args.bending == "two-ring" ? BendingModel::TwoRing : BendingModel::Quadratic;
+  options.arap.shrink = args.shrink;
+  options.triangulate.density = args.density;
+  options.solver.kind = args.solver == "gd" ? SolverKind::GradientDescent : SolverKind::Fast;
+  options.solver.max_iterations = args.max_iterations;
+  options.solver.time_limit_seconds = args.time_limit;
+  if (args.preset == "prototype") options.prototype = args.prototype;
+  if (!args.obstacles.empty()) options.obstacles = read_obstacles(args.obstacles);
+  options.keep_flat = !args.flat_dir.empty();
+  return options;
+}
+
+void write_flat_meshes(const FillReport& report, const std::string& dir) {
+  fs::create_directories(dir);
+  for (const HoleReport& hole : report.holes) {
+    if (!hole.filled) continue;
+    write_mesh(hole.flat_strip,
+               (fs::path(dir) / fmt::format("loop{}_flat_strip.obj", hole.loop_id)).string());
+    write_mesh(hole.flat_patch,
+               (fs::path(dir) / fmt::format("loop{}_flat_patch.obj", hole.loop_id)).string());
+  }
+}
+
+void print_single_summary(const FileFill& fill, const std::string& output, bool quiet) {
+  for (const HoleReport& hole : fill.report.holes) {
+    if (!hole.filled) {
+      fmt::print(stderr, "foldfill: error: {}\n", hole.reason);
+    } else if (!quiet) {
+      fmt::print(
+          "filled loop {} ({} boundary vertices): {} new vertices, {} faces, {} iterations, "
+          "{:.3f} s\n",
+          hole.loop_id, hole.loop_vertex_count, hole.patch_vertex_count, hole.patch_face_count,
+          hole.iterations, hole.seconds.total);
+    }
+  }
+  if (quiet) return;
+  if (fill.choice.fill.empty()) fmt::print("nothing to fill: the mesh was written unchanged\n");
+  for (int id : fill.choice.left_open) {
+    fmt::print("left open: loop {} ({} vertices)\n", id, fill.loops[id].vertices.size());
+  }
+  fmt::print("wrote {}\n", output);
+}
+
+}  // namespace
+
+HoleSelection SelectionArgs::selection() const {
+  HoleSelection s;
+  s.keep_open = keep_open;
+  if (!near.empty()) {
+    s.mode = HoleSelection::Mode::Near;
+    s.near = {near[0], near[1], near[2]};
+  } else if (holes == "all") {
+    s.mode = HoleSelection::Mode::All;
+  } else if (!holes.empty()) {
+    s.mode = HoleSelection::Mode::Ids;
+    std::stringstream list(holes);
+    for (std::string id; std::getline(list, id, ',');) {
+      try {
+        s.ids.push_back(std::stoi(id));
+      } catch (const std::exception&) {
+        throw Error(ErrorKind::Usage,
+                    "--holes: '" + holes + "' is not 'all' or a list of loop ids");
+      }
+    }
+  }
+  return s;
+}
+
+int FileFill::failed_hole_count() const {
+  int failed = 0;
+  for (const HoleReport& hole : report.holes) failed += hole.filled ? 0 : 1;
+  return failed;
+}
+
+FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection) {
+  FileFill fill;
+  fill.loops = find_boundary_loops(mesh, source);
+  fill.choice = select_holes(fill.loops, selection.selection(), source);
+  return fill;
+}
+
+void fill_and_write(const Mesh& mesh, const std::string& source, const std::string& output,
+                    const std::string& flat_dir, const FillArgs& args,
+                    const ProgressCallback& progress, FileFill& fill) {
+  FillOptions options = make_fill_options(args);
+  options.progress = progress;
+  FillResult result = args.method == "liepa"
+                          ? fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source)
+                          : fill_holes(mesh, fill.loops, fill.choice.fill, options, source);
+  WriteOptions write_options;
+  write_options.binary = !args.ascii;
+  write_mesh(result.mesh, output, write_options);
+  if (!flat_dir.empty()) write_flat_meshes(result.report, flat_dir);
+  fill.report = std::move(result.report);
+}
+
+nlohmann::json file_report(const FileFill& fill, const std::string& source,
+                           const std::string& output) {
+  nlohmann::json report = to_json(fill.report);
+  report["input"] = source;
+  report["output"] = output;
+  report["filled_loops"] = fill.choice.fill;
+  report["left_open_loops"] = fill.choice.left_open;
+  report["warnings"] = fill.choice.warnings;
+  return report;
+}
+
+int fill_single(const Mesh& mesh, const std::string& source, const std::string& output,
+                const FillArgs& args, const nlohmann::json& extra_report) {
+  FileFill fill = choose_holes(mesh, source, args.selection);
+  for (const std::string& warning : fill.choice.warnings) {
+    fmt::print(stderr, "foldfill: warning: {}\n", warning);
+  }
+  ProgressLine progress(!args.quiet && isatty(STDERR_FILENO));
+  fill_and_write(
+      mesh, source, output, args.flat_dir, args,
+      [&](int id, const SolverProgress& p) { return progress(id, p); }, fill);
+  progress.finish();
+  print_single_summary(fill, output, args.quiet);
+  if (!args.report.empty()) {
+    nlohmann::json report = file_report(fill, source, output);
+    if (!extra_report.is_null()) report.update(extra_report);
+    write_file_atomically(args.report, report.dump(1) + "\n");
+  }
+  return fill.failed_hole_count() > 0 ? static_cast<int>(ErrorKind::FillFailed) : 0;
+}
+
+}  // namespace foldfill::cli
