@@ -19,7 +19,7 @@ constexpr int kBatchFailedExitCode = 11;
 
 // Options of the hole selection, shared by `holes` and `fill`.
 struct SelectionArgs {
-  std::string holes;  // "all" or "0,2"
+  std::string holes;  // "all", "auto" or "0,2"
   std::vector<double> near;
   int keep_open = 1;
 

@@ -106,6 +106,8 @@ HoleSelection SelectionArgs::selection() const {
     s.near = {near[0], near[1], near[2]};
   } else if (holes == "all") {
     s.mode = HoleSelection::Mode::All;
+  } else if (holes == "auto") {
+    s.mode = HoleSelection::Mode::Auto;
   } else if (!holes.empty()) {
     s.mode = HoleSelection::Mode::Ids;
     std::stringstream list(holes);
@@ -114,7 +116,7 @@ HoleSelection SelectionArgs::selection() const {
         s.ids.push_back(std::stoi(id));
       } catch (const std::exception&) {
         throw Error(ErrorKind::Usage,
-                    "--holes: '" + holes + "' is not 'all' or a list of loop ids");
+                    "--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
       }
     }
   }
@@ -130,7 +132,19 @@ int FileFill::failed_hole_count() const {
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection) {
   FileFill fill;
   fill.loops = find_boundary_loops(mesh, source);
-  fill.choice = select_holes(fill.loops, selection.selection(), source);
+  const HoleSelection chosen = selection.selection();
+  fill.choice = select_holes(fill.loops, chosen, source);
+  // The default goes by length alone; say so when the loops' turning tells
+  // another story (a hole longer than the cloth's edge, a sleeve's ends).
+  if (chosen.mode == HoleSelection::Mode::Default) {
+    HoleSelection by_turning = chosen;
+    by_turning.mode = HoleSelection::Mode::Auto;
+    if (select_holes(fill.loops, by_turning, source).fill != fill.choice.fill) {
+      fill.choice.warnings.push_back(
+          source + ": the default fills the loops that are not the longest, but the loops that turn "
+                   "like holes differ (see `foldfill holes`); --holes auto fills those");
+    }
+  }
   return fill;
 }
 

@@ -24,7 +24,7 @@ using namespace foldfill::cli;
 namespace {
 
 void add_selection_options(CLI::App* command, SelectionArgs& args) {
-  command->add_option("--holes", args.holes, "loops to fill: 'all' or ids such as 0,2");
+  command->add_option("--holes", args.holes, "loops to fill: 'all', 'auto' (those that turn like a hole) or ids such as 0,2");
   command->add_option("--near", args.near, "fill the loop closest to the point x,y,z")
       ->expected(3)
       ->delimiter(',');
@@ -53,6 +53,8 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
                               {"bbox_diagonal", loop.bbox_diagonal},
                               {"mean_edge_length", loop.mean_edge_length},
                               {"outer", is_outer(loop.id)},
+                              {"turning", loop.turning},
+                              {"hole_like", turns_like_a_hole(loop)},
                               {"disk", loop.is_disk},
                               {"reason", loop.reason},
                               {"vertices", loop.vertices}});
@@ -63,10 +65,13 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
   fmt::print("{}: {} vertices, {} faces, {} boundary loops\n", path, mesh.vertex_count(),
              mesh.face_count(), loops.size());
   for (const BoundaryLoop& loop : loops) {
-    fmt::print("loop {}: {} vertices, length {:.6g}, centroid {}, bbox diagonal {:.6g}, {}{}\n",
-               loop.id, loop.vertices.size(), loop.length, format_vec(loop.centroid),
-               loop.bbox_diagonal, is_outer(loop.id) ? "outer (left open by default)" : "hole",
-               loop.is_disk ? "" : ", not a disk: " + loop.reason);
+    fmt::print(
+        "loop {}: {} vertices, length {:.6g}, centroid {}, bbox diagonal {:.6g}, turning {:.0f} deg "
+        "({}), {}{}\n",
+        loop.id, loop.vertices.size(), loop.length, format_vec(loop.centroid), loop.bbox_diagonal,
+        loop.turning * 180 / M_PI, turns_like_a_hole(loop) ? "hole-like" : "edge-like",
+        is_outer(loop.id) ? "outer (left open by default)" : "filled by default",
+        loop.is_disk ? "" : ", not a disk: " + loop.reason);
   }
   return 0;
 }

@@ -56,6 +56,15 @@ double corner_angle(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 // ---- Strip extraction and its topology check -------------------------------
 
+// The refusal of a loop: "SOURCE: loop ID: reason".
+struct NotADiskError {
+  const std::string& source;
+  int loop_id;
+  Error operator()(const std::string& reason) const {
+    return Error(ErrorKind::NotADisk, source + ": loop " + std::to_string(loop_id) + ": " + reason);
+  }
+};
+
 // Corners of the strip's faces joined across shared edges: the corners of
 // one vertex that end up in one set form one fan of faces around it.
 class CornerSets {
@@ -128,8 +137,7 @@ const Edge* find_edge(const EdgeTopology& topology, int a, int b) {
 
 // Throws `not_a_disk(reason)` unless the strip is a topological annulus
 // whose inner boundary is the loop.
-template <class NotADisk>
-void check_annulus(const Strip& strip, const std::string& source, const NotADisk& not_a_disk) {
+void check_annulus(const Strip& strip, const std::string& source, const NotADiskError& not_a_disk) {
   const int vertex_count = static_cast<int>(strip.positions.size());
   EdgeTopology topology;
   try {
@@ -303,32 +311,77 @@ bool is_simple(const std::vector<Vec2>& polygon) {
   return CGAL::is_simple_2(points.begin(), points.end(), Kernel());
 }
 
+// Throws unless `loop` is flagged a disk and has at least 3 distinct vertices
+// of `mesh`.
+void check_loop(const Mesh& mesh, const BoundaryLoop& loop, const NotADiskError& not_a_disk) {
+  if (!loop.is_disk)
+    throw not_a_disk(loop.reason.empty() ? "it is not the boundary of a disk" : loop.reason);
+  if (loop.vertices.size() < 3)
+    throw not_a_disk("it has " + std::to_string(loop.vertices.size()) +
+                     " vertices, at least 3 are needed");
+  for (int v : loop.vertices)
+    if (v < 0 || v >= mesh.vertex_count())
+      throw not_a_disk("vertex index " + std::to_string(v) + " is out of range");
+  std::vector<int> sorted = loop.vertices;
+  std::sort(sorted.begin(), sorted.end());
+  const auto repeated = std::adjacent_find(sorted.begin(), sorted.end());
+  if (repeated != sorted.end())
+    throw not_a_disk("it passes vertex " + std::to_string(*repeated) + " twice");
+}
+
+// The strip made of the input faces `faces` (ascending): loop vertices first,
+// in loop order, then the others in order of first appearance in those faces.
+// Input vertices are looked up in the sorted list of the strip's vertices, so
+// the cost follows the strip's size, not the mesh's.
+Strip make_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::vector<int>& faces,
+                 const std::string& source, const NotADiskError& not_a_disk) {
+  std::vector<int> vertices;
+  vertices.reserve(3 * faces.size());
+  for (int f : faces) vertices.insert(vertices.end(), mesh.faces[f].begin(), mesh.faces[f].end());
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  std::vector<int> local(vertices.size(), -1);  // by position in `vertices`
+  const auto slot = [&](int v) -> int& {
+    return local[std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin()];
+  };
+
+  Strip strip;
+  strip.loop_size = static_cast<int>(loop.vertices.size());
+  strip.to_input = loop.vertices;
+  for (int k = 0; k < strip.loop_size; ++k) {
+    if (!std::binary_search(vertices.begin(), vertices.end(), loop.vertices[k]))
+      throw not_a_disk("vertex " + std::to_string(loop.vertices[k]) + " has no face");
+    slot(loop.vertices[k]) = k;
+  }
+  strip.faces.reserve(faces.size());
+  for (int f : faces) {
+    Tri strip_face{};
+    for (int k = 0; k < 3; ++k) {
+      int& v = slot(mesh.faces[f][k]);
+      if (v < 0) {
+        v = static_cast<int>(strip.to_input.size());
+        strip.to_input.push_back(mesh.faces[f][k]);
+      }
+      strip_face[k] = v;
+    }
+    strip.faces.push_back(strip_face);
+  }
+  strip.input_faces = faces;
+  strip.positions.reserve(strip.to_input.size());
+  for (int v : strip.to_input) strip.positions.push_back(mesh.positions[v]);
+
+  check_annulus(strip, source, not_a_disk);
+  return strip;
+}
+
 }  // namespace
 
 Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::string& source) {
-  const auto not_a_disk = [&](const std::string& reason) {
-    return Error(ErrorKind::NotADisk, source + ": loop " + std::to_string(loop.id) + ": " + reason);
-  };
-  if (!loop.is_disk)
-    throw not_a_disk(loop.reason.empty() ? "it is not the boundary of a disk" : loop.reason);
-  const int loop_size = static_cast<int>(loop.vertices.size());
-  if (loop_size < 3)
-    throw not_a_disk("it has " + std::to_string(loop_size) + " vertices, at least 3 are needed");
-
-  // Local numbering: loop vertices first, then the others in order of first
-  // appearance in the strip's faces, taken in input order.
-  std::vector<int> local(mesh.vertex_count(), -1);
-  Strip strip;
-  strip.loop_size = loop_size;
-  for (int k = 0; k < loop_size; ++k) {
-    const int v = loop.vertices[k];
-    if (v < 0 || v >= mesh.vertex_count())
-      throw not_a_disk("vertex index " + std::to_string(v) + " is out of range");
-    if (local[v] >= 0) throw not_a_disk("it passes vertex " + std::to_string(v) + " twice");
-    local[v] = k;
-    strip.to_input.push_back(v);
-  }
-  const auto on_loop = [&](int v) { return local[v] >= 0 && local[v] < loop_size; };
+  const NotADiskError not_a_disk{source, loop.id};
+  check_loop(mesh, loop, not_a_disk);
+  std::vector<char> on_loop(mesh.vertex_count(), 0);
+  for (int v : loop.vertices) on_loop[v] = 1;
+  std::vector<int> faces;
   for (int f = 0; f < mesh.face_count(); ++f) {
     const Tri& face = mesh.faces[f];
     for (int v : face)
@@ -336,24 +389,27 @@ Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::strin
         throw Error(ErrorKind::BadFace, source + ": face " + std::to_string(f) +
                                             " has vertex index " + std::to_string(v) +
                                             " out of range");
-    if (!on_loop(face[0]) && !on_loop(face[1]) && !on_loop(face[2])) continue;
-    Tri strip_face{};
-    for (int k = 0; k < 3; ++k) {
-      int& v = local[face[k]];
-      if (v < 0) {
-        v = static_cast<int>(strip.to_input.size());
-        strip.to_input.push_back(face[k]);
-      }
-      strip_face[k] = v;
-    }
-    strip.faces.push_back(strip_face);
-    strip.input_faces.push_back(f);
+    if (on_loop[face[0]] || on_loop[face[1]] || on_loop[face[2]]) faces.push_back(f);
   }
-  strip.positions.reserve(strip.to_input.size());
-  for (int v : strip.to_input) strip.positions.push_back(mesh.positions[v]);
+  return make_strip(mesh, loop, faces, source, not_a_disk);
+}
 
-  check_annulus(strip, source, not_a_disk);
-  return strip;
+Strip extract_strip(const Mesh& mesh, const VertexFaces& vertex_faces, const BoundaryLoop& loop,
+                    const std::string& source) {
+  if (vertex_faces.vertex_count() != mesh.vertex_count())
+    throw Error(ErrorKind::Internal, source + ": extract_strip was given the vertex faces of " +
+                                         std::to_string(vertex_faces.vertex_count()) +
+                                         " vertices for a mesh of " +
+                                         std::to_string(mesh.vertex_count()));
+  const NotADiskError not_a_disk{source, loop.id};
+  check_loop(mesh, loop, not_a_disk);
+  std::vector<int> faces;
+  for (int v : loop.vertices)
+    faces.insert(faces.end(), vertex_faces.faces.begin() + vertex_faces.start[v],
+                 vertex_faces.faces.begin() + vertex_faces.start[v + 1]);
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return make_strip(mesh, loop, faces, source, not_a_disk);
 }
 
 Flattening flatten_strip(const Strip& strip, const std::string& source) {

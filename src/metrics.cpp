@@ -1,14 +1,20 @@
 // Quality figures of a filled patch. Self-intersections use CGAL's exact
-// triangle-triangle tests (this is one of the few translation units that
-// include CGAL).
+// triangle-triangle tests and surface distances CGAL's AABB tree (this is one
+// of the few translation units that include CGAL).
 #include "foldfill/metrics.h"
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
+#include <utility>
 
 #include "foldfill/error.h"
 
@@ -33,6 +39,77 @@ double triangle_area(const std::vector<Vec3>& p, const Tri& f) {
 double corner_angle(const std::vector<Vec3>& p, const Tri& f, int k) {
   const Vec3 a = sub(p[f[(k + 1) % 3]], p[f[k]]), b = sub(p[f[(k + 2) % 3]], p[f[k]]);
   return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+Vec3 face_normal(const std::vector<Vec3>& p, const Tri& f) {
+  return cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]));
+}
+
+// Angle between the normals of faces f and g (0 when they are coplanar and
+// consistently oriented).
+double normal_angle(const std::vector<Vec3>& p, const Tri& f, const Tri& g) {
+  const Vec3 a = face_normal(p, f), b = face_normal(p, g);
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+std::uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 |
+         static_cast<std::uint32_t>(b);
+}
+
+// (edge key, face) for every edge of every face, sorted: the faces that share
+// an edge are neighbours in the list.
+std::vector<std::pair<std::uint64_t, int>> sorted_edge_faces(const std::vector<Tri>& faces) {
+  std::vector<std::pair<std::uint64_t, int>> entries;
+  entries.reserve(3 * faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      entries.emplace_back(edge_key(faces[f][k], faces[f][(k + 1) % 3]), static_cast<int>(f));
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  return entries;
+}
+
+using Triangle = Kernel::Triangle_3;
+using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<
+    Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>>>;
+
+Kernel::Point_3 point(const Vec3& p) { return {p[0], p[1], p[2]}; }
+
+// Largest and mean distance from the samples of surface (positions, faces) to
+// the triangles of `tree`.
+std::pair<double, double> one_sided_distance(const std::vector<Vec3>& positions,
+                                             const std::vector<Tri>& faces,
+                                             const TriangleTree& tree) {
+  std::vector<Kernel::Point_3> samples;
+  std::vector<char> sampled(positions.size(), 0);
+  for (const Tri& f : faces) {
+    for (int v : f) {
+      if (!sampled[v]) samples.push_back(point(positions[v]));
+      sampled[v] = 1;
+    }
+    samples.push_back(
+        CGAL::centroid(point(positions[f[0]]), point(positions[f[1]]), point(positions[f[2]])));
+  }
+  double largest = 0, sum = 0;
+  for (const Kernel::Point_3& s : samples) {
+    const double distance = std::sqrt(tree.squared_distance(s));
+    largest = std::max(largest, distance);
+    sum += distance;
+  }
+  return {largest, sum / samples.size()};
+}
+
+std::vector<Triangle> nondegenerate_triangles(const std::vector<Vec3>& positions,
+                                              const std::vector<Tri>& faces) {
+  std::vector<Triangle> triangles;
+  for (const Tri& f : faces) {
+    const Triangle t(point(positions[f[0]]), point(positions[f[1]]), point(positions[f[2]]));
+    if (!t.is_degenerate()) triangles.push_back(t);
+  }
+  return triangles;
 }
 
 }  // namespace
@@ -107,6 +184,124 @@ double rms_relative_edge_error(const std::vector<Vec3>& positions,
     squares += (ratio - 1) * (ratio - 1);
   }
   return std::sqrt(squares / edges.size());
+}
+
+SurfaceDistance surface_distance(const std::vector<Vec3>& positions_a,
+                                 const std::vector<Tri>& faces_a,
+                                 const std::vector<Vec3>& positions_b,
+                                 const std::vector<Tri>& faces_b) {
+  const std::vector<Triangle> triangles_a = nondegenerate_triangles(positions_a, faces_a);
+  const std::vector<Triangle> triangles_b = nondegenerate_triangles(positions_b, faces_b);
+  if (triangles_a.empty() || triangles_b.empty()) {
+    throw Error(ErrorKind::Usage, "surface distance: a surface has no non-degenerate triangle");
+  }
+  const TriangleTree tree_a(triangles_a.begin(), triangles_a.end());
+  const TriangleTree tree_b(triangles_b.begin(), triangles_b.end());
+  const auto [largest_ab, mean_ab] = one_sided_distance(positions_a, faces_a, tree_b);
+  const auto [largest_ba, mean_ba] = one_sided_distance(positions_b, faces_b, tree_a);
+  return {std::max(largest_ab, largest_ba), 0.5 * (mean_ab + mean_ba)};
+}
+
+std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
+                                    const std::vector<Tri>& faces,
+                                    const std::vector<std::array<int, 2>>& edges) {
+  const auto edge_faces = sorted_edge_faces(faces);
+  std::vector<double> angles;
+  angles.reserve(edges.size());
+  for (const auto& [a, b] : edges) {
+    const std::uint64_t key = edge_key(a, b);
+    const auto first =
+        std::lower_bound(edge_faces.begin(), edge_faces.end(), std::make_pair(key, -1));
+    if (std::distance(first, edge_faces.end()) < 2 || first[0].first != key ||
+        first[1].first != key || (first + 2 != edge_faces.end() && first[2].first == key)) {
+      throw Error(ErrorKind::Usage, "dihedral angle: edge " + std::to_string(a) + "-" +
+                                        std::to_string(b) + " is not shared by two faces");
+    }
+    angles.push_back(normal_angle(positions, faces[first[0].second], faces[first[1].second]));
+  }
+  return angles;
+}
+
+double integrated_abs_mean_curvature(const std::vector<Vec3>& positions,
+                                     const std::vector<Tri>& faces) {
+  const auto edge_faces = sorted_edge_faces(faces);
+  double integral = 0;
+  for (size_t i = 0; i + 1 < edge_faces.size();) {
+    size_t end = i + 1;
+    while (end < edge_faces.size() && edge_faces[end].first == edge_faces[i].first) ++end;
+    if (end - i == 2) {
+      const int a = static_cast<int>(edge_faces[i].first >> 32);
+      const int b = static_cast<int>(edge_faces[i].first & 0xffffffffu);
+      integral +=
+          0.5 * norm(sub(positions[a], positions[b])) *
+          normal_angle(positions, faces[edge_faces[i].second], faces[edge_faces[i + 1].second]);
+    }
+    i = end;
+  }
+  return integral;
+}
+
+TriangleQuality triangle_quality(const std::vector<Vec3>& positions,
+                                 const std::vector<Tri>& faces) {
+  TriangleQuality quality;
+  if (faces.empty()) return quality;
+  const double twenty_degrees = 20 * M_PI / 180;
+  double smallest = M_PI;
+  int below = 0;
+  for (const Tri& f : faces) {
+    const double angle = std::min({corner_angle(positions, f, 0), corner_angle(positions, f, 1),
+                                   corner_angle(positions, f, 2)});
+    smallest = std::min(smallest, angle);
+    below += angle < twenty_degrees;
+  }
+  quality.min_angle_deg = smallest * 180 / M_PI;
+  quality.share_below_20deg = static_cast<double>(below) / faces.size();
+  return quality;
+}
+
+std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>& faces,
+                                       const std::vector<int>& seeds, int rings) {
+  // Vertex adjacency in compressed rows (both directions of every face edge).
+  std::vector<int> start(vertex_count + 1, 0);
+  for (const Tri& f : faces) {
+    for (int v : f) {
+      if (v < 0 || v >= vertex_count) {
+        throw Error(ErrorKind::Usage, "rings: vertex index " + std::to_string(v) + " out of range");
+      }
+      start[v + 1] += 2;
+    }
+  }
+  for (int v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+  std::vector<int> neighbours(start.back()), next_slot(start.begin(), start.end() - 1);
+  for (const Tri& f : faces) {
+    for (int k = 0; k < 3; ++k) {
+      neighbours[next_slot[f[k]]++] = f[(k + 1) % 3];
+      neighbours[next_slot[f[k]]++] = f[(k + 2) % 3];
+    }
+  }
+  std::vector<int> distance(vertex_count, -1), frontier;
+  for (int s : seeds) {
+    if (s < 0 || s >= vertex_count) {
+      throw Error(ErrorKind::Usage, "rings: seed " + std::to_string(s) + " out of range");
+    }
+    if (distance[s] < 0) frontier.push_back(s);
+    distance[s] = 0;
+  }
+  std::vector<int> reached;
+  for (int ring = 1; ring <= rings && !frontier.empty(); ++ring) {
+    std::vector<int> next;
+    for (int v : frontier) {
+      for (int i = start[v]; i < start[v + 1]; ++i) {
+        if (distance[neighbours[i]] >= 0) continue;
+        distance[neighbours[i]] = ring;
+        next.push_back(neighbours[i]);
+      }
+    }
+    reached.insert(reached.end(), next.begin(), next.end());
+    frontier = std::move(next);
+  }
+  std::sort(reached.begin(), reached.end());
+  return reached;
 }
 
 }  // namespace foldfill

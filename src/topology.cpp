@@ -106,6 +106,22 @@ Edge make_edge(const std::vector<Tri>& faces, int v0, const BucketEntry* run, in
 
 }  // namespace
 
+VertexFaces build_vertex_faces(const std::vector<Tri>& faces, int vertex_count,
+                               const std::string& source) {
+  check_face_indices(faces, vertex_count, source);
+  VertexFaces incidence;
+  incidence.start.assign(static_cast<size_t>(vertex_count) + 1, 0);
+  for (const Tri& face : faces)
+    for (int v : face) ++incidence.start[v + 1];
+  for (int v = 0; v < vertex_count; ++v) incidence.start[v + 1] += incidence.start[v];
+  incidence.faces.resize(faces.size() * 3);
+  // Filling in face order leaves every vertex's faces ascending.
+  std::vector<int> cursor(incidence.start.begin(), incidence.start.end() - 1);
+  for (size_t f = 0; f < faces.size(); ++f)
+    for (int v : faces[f]) incidence.faces[cursor[v]++] = static_cast<int>(f);
+  return incidence;
+}
+
 EdgeTopology build_edge_topology(const std::vector<Tri>& faces, int vertex_count,
                                  const std::string& source) {
   check_face_indices(faces, vertex_count, source);

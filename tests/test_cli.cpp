@@ -190,6 +190,11 @@ TEST_F(CliTest, HolesJsonListsBothLoops) {
   const auto& hole = j["loops"][0]["outer"].get<bool>() ? j["loops"][1] : j["loops"][0];
   EXPECT_EQ(hole["vertex_count"], 4);
   EXPECT_DOUBLE_EQ(hole["length"].get<double>(), 4.0);
+  EXPECT_TRUE(hole["hole_like"].get<bool>());
+  EXPECT_NEAR(hole["turning"].get<double>(), 2 * M_PI, 1e-9);
+  for (const auto& loop : j["loops"]) {
+    EXPECT_EQ(loop["hole_like"].get<bool>(), !loop["outer"].get<bool>());
+  }
 }
 
 TEST_F(CliTest, FillsASmallHoleKeepingEveryInputVertex) {

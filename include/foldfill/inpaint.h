@@ -35,7 +35,8 @@ struct FillOptions {
   // When set, replaces energy.lambda, energy.repulsion and solver.step per hole.
   std::optional<PrototypeWeights> prototype;
   bool keep_flat = false;           // keep the flat strip and patch in the report
-  // Called per hole and iteration with (loop id, progress); false cancels.
+  // Called per hole and iteration with (loop id, progress), from the threads
+  // that fill the holes; false cancels the whole fill (see fill_holes).
   std::function<bool(int, const SolverProgress&)> progress;
 };
 
@@ -52,6 +53,9 @@ struct HoleReport {
   int patch_face_count = 0;
   int iterations = 0;
   std::string stop_reason;
+  // Set when the patch was kept but the minimisation did not end normally: it
+  // diverged (the lowest-energy state seen was kept) or self-intersections remain.
+  std::string warning;
   StageSeconds seconds;
   Flattening flattening_fit;  // uv left empty
   double min_angle_deg = 0, share_below_20deg = 0;
@@ -69,6 +73,10 @@ struct HoleReport {
 
 struct FillReport {
   std::vector<HoleReport> holes;
+  bool cancelled = false;      // the progress callback returned false
+  double seconds_prepare = 0;  // the mesh's vertex-face incidence, built once for all holes
+  double seconds_holes = 0;    // wall time of filling the holes (in parallel)
+  double seconds_stitch = 0;   // appending the patches to the mesh
   double seconds_total = 0;
 };
 
@@ -79,9 +87,29 @@ struct FillResult {
 
 // Fills the loops `fill_ids` of `loops` (from find_boundary_loops(mesh)).
 // Holes are independent and filled in parallel; the result does not depend on
-// the thread count. A hole that cannot be filled is left open and reported
-// with its reason; `mesh`'s own vertices and faces are copied unchanged.
+// the thread count (unless a time limit stops a minimisation). The work per
+// hole follows the size of the hole and its patch, not the mesh's: the faces
+// around each vertex are indexed once (build_vertex_faces) and shared.
+//
+// A hole that cannot be filled is left open and reported with its reason,
+// "SOURCE: loop ID: problem": a loop that is not a disk boundary or whose
+// strip is not an annulus, a flattening or triangulation that fails, a patch
+// with non-finite positions. `mesh`'s own vertices and faces come out
+// unchanged, the patches' are appended in the order of `fill_ids`.
+//
+// Limits: options.solver.max_iterations and time_limit_seconds bound the
+// minimisation of each hole (the time limit covers its retries too). When the
+// progress callback returns false, the fill is cancelled: the holes being
+// minimised then and the ones not started are left open with the reason
+// "cancelled", report.cancelled is set, and holes already finished stay
+// filled. A minimisation that diverges keeps its lowest-energy state, with
+// HoleReport::warning saying so.
 FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                      const std::vector<int>& fill_ids, const FillOptions& options = {},
+                      const std::string& source = "mesh");
+// The same, stitching into `mesh` itself instead of a copy (a large mesh is
+// then held once).
+FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options = {},
                       const std::string& source = "mesh");
 

@@ -32,4 +32,44 @@ double rms_relative_edge_error(const std::vector<Vec3>& positions,
                                const std::vector<std::array<int, 2>>& edges,
                                const std::vector<double>& rest_lengths);
 
+// Two-sided distance between two triangle surfaces A and B, measured from
+// samples (the vertices of the faces and the face centroids) of each surface
+// to the other surface's triangles (exact point-to-triangle distances through
+// an AABB tree). Degenerate triangles are not distance targets. Throws
+// Error(Usage) when either face list is empty.
+struct SurfaceDistance {
+  double hausdorff = 0;  // largest sample distance, both directions
+  double mean = 0;       // average of the two one-sided mean sample distances
+};
+SurfaceDistance surface_distance(const std::vector<Vec3>& positions_a,
+                                 const std::vector<Tri>& faces_a,
+                                 const std::vector<Vec3>& positions_b,
+                                 const std::vector<Tri>& faces_b);
+
+// Unsigned dihedral angle (radians; 0 where the surface is flat, pi where it
+// folds back onto itself) across each of `edges`, between the normals of the
+// two faces of `faces` that share it. Throws Error(Usage) for an edge that is
+// not shared by exactly two faces.
+std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
+                                    const std::vector<Tri>& faces,
+                                    const std::vector<std::array<int, 2>>& edges);
+
+// Integral of |mean curvature| over the surface `faces`, discretised per edge
+// as |e| |theta_e| / 2 over the edges shared by two of the faces (theta_e the
+// dihedral angle); edges on the border of `faces` do not count. A cylinder of
+// radius r gives area / (2 r).
+double integrated_abs_mean_curvature(const std::vector<Vec3>& positions,
+                                     const std::vector<Tri>& faces);
+
+struct TriangleQuality {
+  double min_angle_deg = 0;      // smallest corner angle of all faces
+  double share_below_20deg = 0;  // share of faces with a corner angle under 20 degrees
+};
+TriangleQuality triangle_quality(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
+
+// The vertices at most `rings` edges away from `seeds` along the edges of
+// `faces`, seeds excluded, ascending. `vertex_count` bounds the indices.
+std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>& faces,
+                                       const std::vector<int>& seeds, int rings);
+
 }  // namespace foldfill
