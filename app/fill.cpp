@@ -185,6 +185,9 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
       mesh, source, output, args.flat_dir, args,
       [&](int id, const SolverProgress& p) { return progress(id, p); }, fill);
   progress.finish();
+  for (const HoleReport& hole : fill.report.holes) {
+    if (!hole.warning.empty()) fmt::print(stderr, "foldfill: warning: {}\n", hole.warning);
+  }
   print_single_summary(fill, output, args.quiet);
   if (!args.report.empty()) {
     nlohmann::json report = file_report(fill, source, output);

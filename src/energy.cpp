@@ -17,6 +17,11 @@ namespace {
 using Spring = FabricEnergy::Spring;
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+// The skin of the repulsion's candidate list, relative to the largest radius
+// of a patch vertex: a wider skin lets the list last more iterations but
+// makes it longer.
+constexpr double kRepulsionSkin = 0.5;
+
 double rest_distance(const std::vector<Vec2>& uv, int i, int j) {
   return std::hypot(uv[i][0] - uv[j][0], uv[i][1] - uv[j][1]);
 }
@@ -102,7 +107,7 @@ std::vector<Spring> edge_springs(const EmbedDomain& domain, const EdgeTopology& 
 
 // Springs to the vertices at graph distance exactly 2 (the prototype's
 // "2-Ring" bending), each pair once (i < j), with at least one free end.
-std::vector<Spring> two_ring_springs(const EmbedDomain& domain, const VertexGraph& graph) {
+std::vector<Spring> find_two_ring_springs(const EmbedDomain& domain, const VertexGraph& graph) {
   std::vector<Spring> springs;
   std::vector<int> ring;
   for (int i = 0; i < domain.vertex_count(); ++i) {
@@ -186,16 +191,13 @@ double spring_energy(const std::vector<Spring>& springs, const Points& points, d
   return 0.5 * energy;
 }
 
-// A uniform grid over the points for fixed-radius neighbour queries. Cells
-// are twice the query radius, so the ball around a point meets at most 2 cells
-// per axis, its own and the neighbour on the nearer side: 8 in all. Occupied
-// cells live in an open-addressing hash table; the points are regrouped by
-// cell (in increasing index order within a cell) so that a cell's candidates
-// are contiguous and queries are deterministic.
+// A uniform grid over the points for neighbour queries. Occupied cells live
+// in an open-addressing hash table; the points are regrouped by cell (in
+// increasing index order within a cell) so that a cell's candidates are
+// contiguous and queries are deterministic.
 class SpatialGrid {
  public:
-  SpatialGrid(const Points& points, double query_radius)
-      : points_(points), inverse_cell_(0.5 / query_radius) {
+  SpatialGrid(const Points& points, double cell_size) : inverse_cell_(1 / cell_size) {
     const int n = static_cast<int>(points.rows());
     int bits = 1;
     while ((size_t{1} << bits) < 2 * static_cast<size_t>(n)) ++bits;  // load <= 1/2
@@ -203,10 +205,8 @@ class SpatialGrid {
     slots_.assign(size_t{1} << bits, Slot{});
     std::vector<int> slot_of(n);
     for (int v = 0; v < n; ++v) {
-      int64_t cell[3];
-      bool upper[3];
-      locate(v, cell, upper);
-      slot_of[v] = find_or_insert(pack(cell[0], cell[1], cell[2]));
+      slot_of[v] =
+          find_or_insert(pack(cell_of(points(v, 0)), cell_of(points(v, 1)), cell_of(points(v, 2))));
       ++slots_[slot_of[v]].count;
     }
     int end = 0;  // slots get their range's end, then count down to its start
@@ -220,22 +220,36 @@ class SpatialGrid {
     }
   }
 
-  // Calls visit(j, position of j) for every vertex j that may lie within the
-  // query radius of vertex i (i itself included), each once, in a fixed order.
+  // Calls visit(j, position of j) for every point j that may lie within
+  // `radius` of `p` (the points of every cell the cube around p meets), each
+  // once, in a fixed order.
   template <typename Visit>
-  void for_each_near(int i, Visit&& visit) const {
-    int64_t cell[3];
-    bool upper[3];
-    locate(i, cell, upper);
-    for (int corner = 0; corner < 8; ++corner) {
-      int64_t c[3];
-      for (int a = 0; a < 3; ++a) c[a] = cell[a] + ((corner >> a) & 1 ? (upper[a] ? 1 : -1) : 0);
-      const Slot* slot = find(pack(c[0], c[1], c[2]));
-      if (!slot) continue;
-      for (int k = slot->start; k < slot->start + slot->count; ++k) {
-        visit(vertex_[k], &position_[3 * static_cast<size_t>(k)]);
-      }
+  void for_each_near(const double p[3], double radius, Visit&& visit) const {
+    int64_t low[3], high[3];
+    double cell_count = 1;
+    bool wraps = false;
+    for (int a = 0; a < 3; ++a) {
+      low[a] = cell_of(p[a] - radius);
+      high[a] = std::max(cell_of(p[a] + radius), low[a]);
+      cell_count *= static_cast<double>(high[a] - low[a]) + 1;
+      wraps = wraps || high[a] - low[a] >= kKeyPeriod;
     }
+    // A cube of more cells than there are points (a vertex with a huge edge,
+    // points far apart) scans every point instead: no slower, it cannot hang,
+    // and it visits no point twice through keys that wrap around.
+    if (cell_count > static_cast<double>(vertex_.size()) || wraps) {
+      for (size_t k = 0; k < vertex_.size(); ++k) visit(vertex_[k], &position_[3 * k]);
+      return;
+    }
+    for (int64_t x = low[0]; x <= high[0]; ++x)
+      for (int64_t y = low[1]; y <= high[1]; ++y)
+        for (int64_t z = low[2]; z <= high[2]; ++z) {
+          const Slot* slot = find(pack(x, y, z));
+          if (!slot) continue;
+          for (int k = slot->start; k < slot->start + slot->count; ++k) {
+            visit(vertex_[k], &position_[3 * static_cast<size_t>(k)]);
+          }
+        }
   }
 
  private:
@@ -245,21 +259,17 @@ class SpatialGrid {
     int count = 0;     // 0: empty slot
   };
 
-  // The cell of vertex v and, per axis, whether v is in the cell's upper half.
-  void locate(int v, int64_t cell[3], bool upper[3]) const {
-    for (int a = 0; a < 3; ++a) {
-      const double scaled = points_(v, a) * inverse_cell_;
-      // Clamped (NaN included) so that far or non-finite points cannot
-      // overflow the cast; their cells merely coincide with others.
-      const double limit = 4e15;
-      const double floor = scaled > -limit && scaled < limit ? std::floor(scaled) : 0;
-      cell[a] = static_cast<int64_t>(floor);
-      upper[a] = scaled - floor >= 0.5;
-    }
+  int64_t cell_of(double coordinate) const {
+    const double scaled = coordinate * inverse_cell_;
+    // Clamped (NaN included) so that far or non-finite points cannot overflow
+    // the cast; their cells merely coincide with others.
+    const double limit = 4e15;
+    return static_cast<int64_t>(scaled > -limit && scaled < limit ? std::floor(scaled) : 0);
   }
   // 21 bits per axis: cells 2^21 apart share a key, which only adds candidates.
+  static constexpr int64_t kKeyPeriod = int64_t{1} << 21;
   static uint64_t pack(int64_t x, int64_t y, int64_t z) {
-    const uint64_t mask = (uint64_t{1} << 21) - 1;
+    const uint64_t mask = kKeyPeriod - 1;
     return (static_cast<uint64_t>(x) & mask) | (static_cast<uint64_t>(y) & mask) << 21 |
            (static_cast<uint64_t>(z) & mask) << 42;
   }
@@ -279,7 +289,6 @@ class SpatialGrid {
     return nullptr;
   }
 
-  const Points& points_;
   double inverse_cell_;
   int shift_ = 63;
   std::vector<Slot> slots_;
@@ -287,37 +296,83 @@ class SpatialGrid {
   std::vector<double> position_;  // xyz of vertex_, for contiguous candidate scans
 };
 
-// 1/2 sum over pairs (i < j, at least one free, not joined by an edge) of
-// max(r_ij - |x_i - x_j|, 0)^2 with the symmetric pair radius r_ij = (r_i +
-// r_j) / 2; adds `weight` times its gradient to `forces` when non-null. Pairs
-// are visited by their later vertex, then by grid cell and the earlier vertex,
-// so the sum is reproducible.
-double repulsion_energy(const Points& points, const std::vector<double>& radius, int fixed_count,
-                        const VertexGraph& graph, double weight, Points* forces) {
-  if (radius.empty()) return 0;
-  const double max_radius = *std::max_element(radius.begin(), radius.end());
-  if (!(max_radius > 0)) return 0;
-  const SpatialGrid grid(points, max_radius);  // r_ij <= max_radius
-  double energy = 0;
-  // Each pair once: from its later vertex i, which is free (fixed ones come first).
-  for (int i = fixed_count; i < static_cast<int>(points.rows()); ++i) {
-    const double pi[3] = {points(i, 0), points(i, 1), points(i, 2)};
-    grid.for_each_near(i, [&](int j, const double* pj) {
-      const double d[3] = {pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]};
-      const double distance_sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-      const double r = 0.5 * (radius[i] + radius[j]);
-      const bool close = (j < i) & (distance_sq < r * r);  // one, rarely taken, branch
-      if (!close || graph.adjacent(i, j)) return;
-      const double distance = std::sqrt(distance_sq), overlap = r - distance;
-      energy += overlap * overlap;
-      if (forces && distance > 0) {
-        const double f = -weight * overlap / distance;
-        for (int c = 0; c < 3; ++c) {
-          (*forces)(i, c) += f * d[c];
-          (*forces)(j, c) -= f * d[c];
-        }
+using RepulsionPair = FabricEnergy::RepulsionPair;
+
+// The candidate pairs of the repulsion (a "Verlet list"): every pair (i > j,
+// i free, not joined by an edge) closer than its radius r_ij = (r_i + r_j) / 2
+// plus `skin` at `points`, sorted by (i, j). While no vertex is more than
+// skin / 2 away from where it was at the build, every pair closer than its
+// radius is in the list, so summing over the list is summing over all pairs;
+// the order makes the sum independent of when the list was built.
+//
+// A pair is found from its end of larger (radius, index), whose query radius
+// r + skin >= r_ij + skin then suffices: the few long-edged strip vertices
+// search wide, the many patch vertices only their own cells.
+void build_repulsion_pairs(const Points& points, const std::vector<double>& radius, int fixed_count,
+                           const VertexGraph& graph, double skin, double typical_reach,
+                           std::vector<RepulsionPair>& pairs) {
+  const int n = static_cast<int>(points.rows());
+  const SpatialGrid grid(points, 2 * typical_reach);  // a typical query meets <= 8 cells
+  std::vector<RepulsionPair> found;
+  for (int a = 0; a < n; ++a) {
+    const double pa[3] = {points(a, 0), points(a, 1), points(a, 2)};
+    grid.for_each_near(pa, radius[a] + skin, [&](int b, const double* pb) {
+      if (radius[b] > radius[a] || (radius[b] == radius[a] && b >= a)) return;  // from b
+      const int i = std::max(a, b), j = std::min(a, b);
+      if (i < fixed_count) return;  // both fixed
+      const double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
+      const double r = 0.5 * (radius[a] + radius[b]);
+      if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < (r + skin) * (r + skin) &&
+          !graph.adjacent(i, j)) {
+        found.push_back({i, j, r});
       }
     });
+  }
+  // Counting sort by i, then each i's few pairs by j.
+  std::vector<int> start(n + 1, 0);
+  for (const RepulsionPair& pair : found) ++start[pair.i + 1];
+  for (int v = 0; v < n; ++v) start[v + 1] += start[v];
+  pairs.resize(found.size());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const RepulsionPair& pair : found) pairs[fill[pair.i]++] = pair;
+  for (int v = fixed_count; v < n; ++v) {
+    std::sort(pairs.begin() + start[v], pairs.begin() + start[v + 1],
+              [](const RepulsionPair& p, const RepulsionPair& q) { return p.j < q.j; });
+  }
+}
+
+// Whether some free vertex moved further than `limit` from `anchor` (also
+// when a position is not finite).
+bool moved_beyond(const Points& points, const Points& anchor, int fixed_count, double limit) {
+  const double limit_sq = limit * limit;
+  for (Eigen::Index v = fixed_count; v < points.rows(); ++v) {
+    const double dx = points(v, 0) - anchor(v, 0), dy = points(v, 1) - anchor(v, 1),
+                 dz = points(v, 2) - anchor(v, 2);
+    if (!(dx * dx + dy * dy + dz * dz <= limit_sq)) return true;
+  }
+  return false;
+}
+
+// 1/2 sum over the close pairs of max(r_ij - |x_i - x_j|, 0)^2; adds `weight`
+// times its gradient to `forces` when non-null.
+double repulsion_energy(const Points& points, const std::vector<RepulsionPair>& pairs,
+                        double weight, Points* forces) {
+  double energy = 0;
+  for (const RepulsionPair& pair : pairs) {
+    const double d[3] = {points(pair.i, 0) - points(pair.j, 0),
+                         points(pair.i, 1) - points(pair.j, 1),
+                         points(pair.i, 2) - points(pair.j, 2)};
+    const double distance_sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (!(distance_sq < pair.radius * pair.radius)) continue;
+    const double distance = std::sqrt(distance_sq), overlap = pair.radius - distance;
+    energy += overlap * overlap;
+    if (forces && distance > 0) {
+      const double f = -weight * overlap / distance;
+      for (int c = 0; c < 3; ++c) {
+        (*forces)(pair.i, c) += f * d[c];
+        (*forces)(pair.j, c) -= f * d[c];
+      }
+    }
   }
   return 0.5 * energy;
 }
@@ -335,14 +390,35 @@ FabricEnergy::FabricEnergy(const EmbedDomain& domain, const EnergyOptions& optio
   if (options_.bending == BendingModel::Quadratic) {
     bending_hessian_ = quadratic_bending_hessian(domain_, topology);
   } else {
-    two_ring_springs_ = two_ring_springs(domain_, VertexGraph{neighbour_start_, neighbours_});
+    two_ring_springs_ = find_two_ring_springs(domain_, VertexGraph{neighbour_start_, neighbours_});
   }
   repulsion_radius_ = repulsion_radii(domain_, topology, options_.repulsion_radius);
+  // The skin scales with the patch's radii (long strip edges give a few larger ones).
+  const auto largest = [&](int first) {
+    return first < n ? *std::max_element(repulsion_radius_.begin() + first, repulsion_radius_.end())
+                     : 0.0;
+  };
+  const double patch_radius = largest(domain_.fixed_count);
+  repulsion_skin_ = kRepulsionSkin * (patch_radius > 0 ? patch_radius : largest(0));
+  repulsion_reach_ = patch_radius + repulsion_skin_;
   points_.setZero(n, 3);
   for (int v = 0; v < domain_.fixed_count; ++v) {
     for (int c = 0; c < 3; ++c) points_(v, c) = domain_.fixed_positions[v][c];
   }
   forces_.setZero(n, 3);
+  if (options_.bending == BendingModel::Quadratic) split_bending_hessian();
+}
+
+// With p = (p_x fixed, p_f free), p^T H p = p_f^T (H_ff p_f + 2 b) + c where
+// b = H_fx p_x and c = p_x^T H_xx p_x are constant: only the free rows of H
+// take part in an evaluation.
+void FabricEnergy::split_bending_hessian() {
+  const int fixed = domain_.fixed_count, free = domain_.free_count();
+  const Points fixed_points = points_.topRows(fixed);
+  free_bending_hessian_ = bending_hessian_.bottomRightCorner(free, free);
+  fixed_bending_force_ = bending_hessian_.bottomLeftCorner(free, fixed) * fixed_points;
+  fixed_bending_energy_ =
+      fixed_points.cwiseProduct(bending_hessian_.topLeftCorner(fixed, fixed) * fixed_points).sum();
 }
 
 EnergyTerms FabricEnergy::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
@@ -355,20 +431,24 @@ EnergyTerms FabricEnergy::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gr
   Points* forces = gradient ? &forces_ : nullptr;
 
   EnergyTerms terms;
+  forces_.topRows(domain_.fixed_count).setZero();  // springs add to them; never read
   if (options_.bending == BendingModel::Quadratic) {
     // E_B = 1/2 sum over coordinates p^T H p; its gradient is H p.
-    forces_.noalias() = bending_hessian_ * points_;
-    terms.bending = 0.5 * points_.cwiseProduct(forces_).sum();
-    if (forces) forces_ *= options_.lambda;
+    auto free_forces = forces_.bottomRows(free);
+    const auto free_points = points_.bottomRows(free);
+    free_forces.noalias() = free_bending_hessian_ * free_points;
+    free_forces += fixed_bending_force_;
+    terms.bending = 0.5 * (free_points.cwiseProduct(free_forces + fixed_bending_force_).sum() +
+                           fixed_bending_energy_);
+    if (forces) free_forces *= options_.lambda;
   } else {
-    forces_.setZero();
+    if (forces) forces_.bottomRows(free).setZero();
     terms.bending = spring_energy(two_ring_springs_, points_, options_.lambda, forces);
   }
   terms.isometric = spring_energy(springs_, points_, 1, forces);
-  if (options_.repulsion > 0) {  // skipped (reported 0) when switched off: it is the costly term
-    terms.repulsion =
-        repulsion_energy(points_, repulsion_radius_, domain_.fixed_count,
-                         VertexGraph{neighbour_start_, neighbours_}, options_.repulsion, forces);
+  if (options_.repulsion > 0 && repulsion_skin_ > 0) {
+    update_repulsion_pairs();
+    terms.repulsion = repulsion_energy(points_, repulsion_pairs_, options_.repulsion, forces);
   }
   terms.total =
       terms.isometric + options_.lambda * terms.bending + options_.repulsion * terms.repulsion;
@@ -378,6 +458,19 @@ EnergyTerms FabricEnergy::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gr
     Eigen::Map<Points>(gradient->data(), free, 3) = forces_.bottomRows(free);
   }
   return terms;
+}
+
+// Rebuilt only when some vertex has moved more than half the skin since the
+// last build: late iterations move little, so most evaluations reuse the list.
+void FabricEnergy::update_repulsion_pairs() const {
+  if (repulsion_anchor_.rows() == points_.rows() &&
+      !moved_beyond(points_, repulsion_anchor_, domain_.fixed_count, 0.5 * repulsion_skin_)) {
+    return;
+  }
+  build_repulsion_pairs(points_, repulsion_radius_, domain_.fixed_count,
+                        VertexGraph{neighbour_start_, neighbours_}, repulsion_skin_,
+                        repulsion_reach_, repulsion_pairs_);
+  repulsion_anchor_ = points_;
 }
 
 std::vector<Vec3> FabricEnergy::positions(const Eigen::VectorXd& x) const {

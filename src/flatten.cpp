@@ -1,7 +1,8 @@
 // The strip around a hole and its LSCM flattening (see flatten.h). The strip
-// is checked to be a topological annulus with the loop as one boundary, the
-// only shape on which the flattened inner boundary is a meaningful outline of
-// the hole. LSCM is solved on the normal equations of the real least-squares
+// is checked to be a connected planar surface (an annulus, or a ring with
+// islands where the loop comes back near itself) with the loop as one of its
+// boundaries, the shapes on which the flattened loop is a meaningful outline
+// of the hole. LSCM is solved on the normal equations of the real least-squares
 // form with a sparse Cholesky (LDLT) factorisation: strips have a few
 // thousand vertices and, on developable input, an exact zero-energy solution,
 // so the squared condition number costs no useful accuracy.
@@ -135,9 +136,10 @@ const Edge* find_edge(const EdgeTopology& topology, int a, int b) {
   return it != topology.edges.end() && it->v0 == v0 && it->v1 == v1 ? &*it : nullptr;
 }
 
-// Throws `not_a_disk(reason)` unless the strip is a topological annulus
+// Throws `not_a_disk(reason)` unless the strip is a connected planar surface
 // whose inner boundary is the loop.
-void check_annulus(const Strip& strip, const std::string& source, const NotADiskError& not_a_disk) {
+void check_flat_ring(const Strip& strip, const std::string& source,
+                     const NotADiskError& not_a_disk) {
   const int vertex_count = static_cast<int>(strip.positions.size());
   EdgeTopology topology;
   try {
@@ -169,10 +171,14 @@ void check_annulus(const Strip& strip, const std::string& source, const NotADisk
   const int euler =
       vertex_count - static_cast<int>(topology.edges.size()) + static_cast<int>(strip.faces.size());
   const int boundaries = boundary_loop_count(vertex_count, topology);
-  if (euler != 0 || boundaries != 2)
-    throw not_a_disk("the faces around it are not an annulus (" + std::to_string(boundaries) +
-                     " boundary loops, Euler characteristic " + std::to_string(euler) +
-                     "), so the hole is not a disk surrounded by surface");
+  // A connected surface with b boundaries is planar (it lies flat) when its
+  // Euler characteristic is 2 - b. An annulus (b = 2) is the usual strip; a
+  // loop that comes back within an edge of itself gives a strip that bridges
+  // the gap, a ring with islands (b > 2), which flattens as well.
+  if (boundaries < 2 || euler != 2 - boundaries)
+    throw not_a_disk("the faces around it do not form a flat ring around the hole (" +
+                     std::to_string(boundaries) + " boundary loops, Euler characteristic " +
+                     std::to_string(euler) + "), so the hole is not a disk surrounded by surface");
 }
 
 // ---- LSCM -------------------------------------------------------------------
@@ -302,13 +308,25 @@ void measure_fit(const Strip& strip, Flattening& flat) {
   flat.angle_sum_rms = std::sqrt(angle_sum2 / n);
 }
 
-// Whether the polygon is simple, decided with exact predicates (a sweep).
-bool is_simple(const std::vector<Vec2>& polygon) {
-  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+std::vector<Kernel::Point_2> to_points(const std::vector<Vec2>& polygon) {
   std::vector<Kernel::Point_2> points;
   points.reserve(polygon.size());
   for (const Vec2& p : polygon) points.emplace_back(p[0], p[1]);
+  return points;
+}
+
+// Whether the polygon is simple, decided with exact predicates (a sweep).
+bool is_simple(const std::vector<Vec2>& polygon) {
+  const std::vector<Kernel::Point_2> points = to_points(polygon);
   return CGAL::is_simple_2(points.begin(), points.end(), Kernel());
+}
+
+// Whether the simple polygon runs counter-clockwise (exact predicate).
+bool is_counter_clockwise(const std::vector<Vec2>& polygon) {
+  const std::vector<Kernel::Point_2> points = to_points(polygon);
+  return CGAL::orientation_2(points.begin(), points.end(), Kernel()) == CGAL::COUNTERCLOCKWISE;
 }
 
 // Throws unless `loop` is flagged a disk and has at least 3 distinct vertices
@@ -370,7 +388,7 @@ Strip make_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::vector<i
   strip.positions.reserve(strip.to_input.size());
   for (int v : strip.to_input) strip.positions.push_back(mesh.positions[v]);
 
-  check_annulus(strip, source, not_a_disk);
+  check_flat_ring(strip, source, not_a_disk);
   return strip;
 }
 
@@ -429,6 +447,12 @@ Flattening flatten_strip(const Strip& strip, const std::string& source) {
                                            std::to_string(strip.faces.size()) + " in the strip)");
   if (!flat.simple_polygon)
     throw Error(ErrorKind::FillFailed, source + ": the flattened hole outline crosses itself");
+  // The strip lies to the right of the loop, so a clockwise outline has the
+  // surface inside it: the loop is an outer edge.
+  if (!is_counter_clockwise(hole_polygon(strip, flat)))
+    throw Error(ErrorKind::FillFailed, source +
+                                           ": the flattened loop runs clockwise, so the surface "
+                                           "lies inside it: it is an outer edge, not a hole");
   return flat;
 }
 

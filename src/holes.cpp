@@ -1,11 +1,13 @@
 // Boundary loops of a triangle mesh and the choice of the loops to fill.
 //
-// The faces around each vertex are grouped into fans (faces linked through the
-// edges they share at that vertex) with a union-find over face corners. A
-// vertex with several fans is non-manifold unless all of them are open, in
-// which case the boundary passes it several times; pairing each incoming
-// boundary half-edge with the outgoing one of the same fan keeps every traced
-// loop a chain that turns around a single fan at each visit.
+// Everything is found vertex by vertex from the faces around each vertex
+// (VertexFaces, compressed rows), so the memory beyond the mesh is that index
+// and the boundary, not a table of all edges. The faces around each vertex
+// are grouped into fans (faces linked through the edges they share at that
+// vertex). A vertex with several fans is non-manifold unless all of them are
+// open, in which case the boundary passes it several times; pairing each
+// incoming boundary half-edge with the outgoing one of the same fan keeps
+// every traced loop a chain that turns around a single fan at each visit.
 #include "foldfill/holes.h"
 
 #include <algorithm>
@@ -21,77 +23,22 @@
 namespace foldfill {
 namespace {
 
-// The corner of `face` (index f) at vertex v: 3 f + k with faces[f][k] == v.
-int corner_at(const Tri& face, int f, int v) {
-  return 3 * f + (face[0] == v ? 0 : face[1] == v ? 1 : 2);
-}
-
-// Union-find over face corners; a set is one fan of faces around a vertex.
-class CornerFans {
- public:
-  explicit CornerFans(size_t corner_count) : parent_(corner_count) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-  }
-  int find(int corner) {
-    while (parent_[corner] != corner) {
-      parent_[corner] = parent_[parent_[corner]];  // path halving keeps trees shallow
-      corner = parent_[corner];
-    }
-    return corner;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-  bool is_root(int corner) const { return parent_[corner] == corner; }
-
- private:
-  std::vector<int> parent_;
+// One face around a vertex v: the face has the edges v -> next and previous -> v.
+struct Corner {
+  int face, corner;  // faces[face][corner] == v
+  int next, previous;
 };
 
-// Links the corners of the two faces of every interior edge at both endpoints.
-CornerFans group_corners_into_fans(const std::vector<Tri>& faces, const EdgeTopology& topology) {
-  CornerFans fans(faces.size() * 3);
-  for (const Edge& edge : topology.edges) {
-    if (edge.is_boundary()) continue;
-    const Tri& f0 = faces[edge.face[0]];
-    const Tri& f1 = faces[edge.face[1]];
-    for (int v : {edge.v0, edge.v1}) {
-      fans.unite(corner_at(f0, edge.face[0], v), corner_at(f1, edge.face[1], v));
-    }
+// The corners at `v`, in face order.
+void corners_at(const std::vector<Tri>& faces, const VertexFaces& vertex_faces, int v,
+                std::vector<Corner>& corners) {
+  corners.clear();
+  for (int i = vertex_faces.start[v]; i < vertex_faces.start[v + 1]; ++i) {
+    const int f = vertex_faces.faces[i];
+    const Tri& face = faces[f];
+    const int k = face[0] == v ? 0 : face[1] == v ? 1 : 2;
+    corners.push_back({f, k, face[(k + 1) % 3], face[(k + 2) % 3]});
   }
-  return fans;
-}
-
-// Throws for a vertex with several fans one of which is closed; returns, per
-// vertex, whether it is pinched (several fans, all open).
-std::vector<char> find_pinched_vertices(const std::vector<Tri>& faces, const EdgeTopology& topology,
-                                        const CornerFans& fans, int vertex_count,
-                                        const std::string& source) {
-  std::vector<int> fan_count(vertex_count, 0), boundary_degree(vertex_count, 0);
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      if (fans.is_root(static_cast<int>(3 * f + k))) ++fan_count[faces[f][k]];
-    }
-  }
-  for (const Edge& edge : topology.edges) {
-    if (!edge.is_boundary()) continue;
-    ++boundary_degree[edge.v0];
-    ++boundary_degree[edge.v1];
-  }
-  std::vector<char> pinched(vertex_count, 0);
-  for (int v = 0; v < vertex_count; ++v) {
-    if (fan_count[v] < 2) continue;
-    const int open_fans = boundary_degree[v] / 2;  // an open fan has two boundary edges at v
-    if (open_fans < fan_count[v]) {
-      throw Error(ErrorKind::NonManifold, source + ": vertex " + std::to_string(v) +
-                                              " is non-manifold (its faces form " +
-                                              std::to_string(fan_count[v]) + " separate fans)");
-    }
-    pinched[v] = 1;
-  }
-  return pinched;
 }
 
 // A boundary half-edge from -> to, along the missing side of `face`'s edge.
@@ -99,37 +46,116 @@ struct BoundaryHalfEdge {
   int from, to, face;
 };
 
-std::vector<BoundaryHalfEdge> boundary_half_edges(const EdgeTopology& topology) {
-  std::vector<BoundaryHalfEdge> half_edges;
-  for (const Edge& edge : topology.edges) {
-    if (edge.face[1] < 0) {
-      half_edges.push_back({edge.v1, edge.v0, edge.face[0]});
-    } else if (edge.face[0] < 0) {
-      half_edges.push_back({edge.v0, edge.v1, edge.face[1]});
+// Checks every edge (at most two faces, used in opposite directions) and
+// returns the boundary half-edges in edge order.
+std::vector<BoundaryHalfEdge> check_edges(const std::vector<Tri>& faces,
+                                          const VertexFaces& vertex_faces,
+                                          const std::string& source) {
+  std::vector<BoundaryHalfEdge> boundary;
+  std::vector<Edge> edges;
+  for (int v = 0; v < vertex_faces.vertex_count(); ++v) {
+    edges_from_vertex(faces, vertex_faces, v, edges, source);
+    for (const Edge& edge : edges) {
+      if (edge.face[1] < 0) boundary.push_back({edge.v1, edge.v0, edge.face[0]});
+      if (edge.face[0] < 0) boundary.push_back({edge.v0, edge.v1, edge.face[1]});
     }
   }
-  return half_edges;
+  return boundary;
 }
 
-// next[h]: the boundary half-edge leaving h.to within the fan of h's face.
-std::vector<int> link_boundary_half_edges(const std::vector<Tri>& faces,
-                                          const std::vector<BoundaryHalfEdge>& half_edges,
-                                          CornerFans& fans, const std::string& source) {
-  std::vector<int> outgoing_of_fan(faces.size() * 3, -1);  // indexed by the fan's root corner
-  for (size_t h = 0; h < half_edges.size(); ++h) {
-    const BoundaryHalfEdge& he = half_edges[h];
-    outgoing_of_fan[fans.find(corner_at(faces[he.face], he.face, he.from))] = static_cast<int>(h);
+// Groups `corners` (of one vertex v) into fans, faces joined across the
+// edges they share at v: fan[i] is the fan of corners[i]. Returns the count.
+// The face with v -> w is joined to the one with w -> v (check_edges made it
+// unique), found by binary search so that a vertex of high degree costs
+// O(d log d).
+int group_into_fans(const std::vector<Corner>& corners,
+                    std::vector<std::pair<int, int>>& by_previous, std::vector<int>& fan) {
+  const int n = static_cast<int>(corners.size());
+  by_previous.clear();
+  for (int i = 0; i < n; ++i) by_previous.emplace_back(corners[i].previous, i);
+  std::sort(by_previous.begin(), by_previous.end());
+  fan.resize(n);
+  std::iota(fan.begin(), fan.end(), 0);
+  const auto root = [&](int i) {
+    while (fan[i] != i) i = fan[i] = fan[fan[i]];
+    return i;
+  };
+  for (int i = 0; i < n; ++i) {
+    const auto j =
+        std::lower_bound(by_previous.begin(), by_previous.end(), std::pair(corners[i].next, -1));
+    if (j != by_previous.end() && j->first == corners[i].next) fan[root(i)] = root(j->second);
   }
-  std::vector<int> next(half_edges.size());
-  for (size_t h = 0; h < half_edges.size(); ++h) {
-    const BoundaryHalfEdge& he = half_edges[h];
-    next[h] = outgoing_of_fan[fans.find(corner_at(faces[he.face], he.face, he.to))];
-    if (next[h] < 0) {
-      throw Error(ErrorKind::Internal, source + ": boundary at vertex " + std::to_string(he.to) +
-                                           " has no outgoing edge");
+  int count = 0;
+  for (int i = 0; i < n; ++i) count += root(i) == i;
+  for (int i = 0; i < n; ++i) fan[i] = root(i);
+  return count;
+}
+
+// The boundary half-edges chained into loops, and the vertices where the
+// boundary passes more than once.
+struct LinkedBoundary {
+  std::vector<int> next;      // next[h]: the boundary half-edge after h
+  std::vector<char> pinched;  // per vertex
+};
+
+// Pairs, at every vertex, each incoming boundary half-edge with the outgoing
+// one of the same fan; throws for a vertex with several fans one of which is
+// closed (a vertex with several fans, all open, is pinched).
+LinkedBoundary link_boundary(const std::vector<Tri>& faces, const VertexFaces& vertex_faces,
+                             const std::vector<BoundaryHalfEdge>& boundary,
+                             const std::string& source) {
+  const int vertex_count = vertex_faces.vertex_count();
+  // Boundary half-edges by `from` and by `to` (compressed rows).
+  std::vector<int> out_start(vertex_count + 1, 0), in_start(vertex_count + 1, 0);
+  for (const BoundaryHalfEdge& h : boundary) {
+    ++out_start[h.from + 1];
+    ++in_start[h.to + 1];
+  }
+  for (int v = 0; v < vertex_count; ++v) {
+    out_start[v + 1] += out_start[v];
+    in_start[v + 1] += in_start[v];
+  }
+  std::vector<int> outgoing(boundary.size()), incoming(boundary.size());
+  {
+    std::vector<int> out_cursor(out_start.begin(), out_start.end() - 1);
+    std::vector<int> in_cursor(in_start.begin(), in_start.end() - 1);
+    for (size_t h = 0; h < boundary.size(); ++h) {
+      outgoing[out_cursor[boundary[h].from]++] = static_cast<int>(h);
+      incoming[in_cursor[boundary[h].to]++] = static_cast<int>(h);
     }
   }
-  return next;
+
+  LinkedBoundary linked{std::vector<int>(boundary.size(), -1), std::vector<char>(vertex_count, 0)};
+  std::vector<Corner> corners;
+  std::vector<std::pair<int, int>> by_previous;
+  std::vector<int> fan, outgoing_of_fan;
+  for (int v = 0; v < vertex_count; ++v) {
+    corners_at(faces, vertex_faces, v, corners);
+    const int fan_count = group_into_fans(corners, by_previous, fan);
+    const int open_fans = out_start[v + 1] - out_start[v];  // one boundary half-edge out of each
+    if (fan_count > 1 && open_fans < fan_count)
+      throw Error(ErrorKind::NonManifold, source + ": vertex " + std::to_string(v) +
+                                              " is non-manifold (its faces form " +
+                                              std::to_string(fan_count) + " separate fans)");
+    linked.pinched[v] = fan_count > 1;
+    // Corners are in face order.
+    const auto fan_of_face = [&](int face) {
+      const auto corner = std::lower_bound(corners.begin(), corners.end(), face,
+                                           [](const Corner& c, int f) { return c.face < f; });
+      return fan[corner - corners.begin()];
+    };
+    outgoing_of_fan.assign(corners.size(), -1);
+    for (int k = out_start[v]; k < out_start[v + 1]; ++k)
+      outgoing_of_fan[fan_of_face(boundary[outgoing[k]].face)] = outgoing[k];
+    for (int k = in_start[v]; k < in_start[v + 1]; ++k) {
+      const int h = incoming[k];
+      linked.next[h] = outgoing_of_fan[fan_of_face(boundary[h].face)];
+      if (linked.next[h] < 0)
+        throw Error(ErrorKind::Internal,
+                    source + ": boundary at vertex " + std::to_string(v) + " has no outgoing edge");
+    }
+  }
+  return linked;
 }
 
 // Follows `next` from every unvisited half-edge; each cycle becomes a loop's
@@ -174,7 +200,8 @@ std::vector<double> angle_sums(const Mesh& mesh, const std::vector<char>& wanted
       const Vec3& a = mesh.positions[f[(k + 1) % 3]];
       const Vec3& b = mesh.positions[f[(k + 2) % 3]];
       const Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
-      const Vec3 cross{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+      const Vec3 cross{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                       u[0] * w[1] - u[1] * w[0]};
       sums[f[k]] += std::atan2(std::hypot(cross[0], cross[1], cross[2]),
                                u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
     }
@@ -326,20 +353,17 @@ std::vector<int> named_loops(const std::vector<BoundaryLoop>& loops, const HoleS
 }  // namespace
 
 std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::string& source) {
-  const EdgeTopology topology = build_edge_topology(mesh.faces, mesh.vertex_count(), source);
-  CornerFans fans = group_corners_into_fans(mesh.faces, topology);
-  const std::vector<char> pinched =
-      find_pinched_vertices(mesh.faces, topology, fans, mesh.vertex_count(), source);
-  const std::vector<BoundaryHalfEdge> half_edges = boundary_half_edges(topology);
-  const std::vector<int> next = link_boundary_half_edges(mesh.faces, half_edges, fans, source);
+  const VertexFaces vertex_faces = build_vertex_faces(mesh.faces, mesh.vertex_count(), source);
+  const std::vector<BoundaryHalfEdge> half_edges = check_edges(mesh.faces, vertex_faces, source);
+  const LinkedBoundary linked = link_boundary(mesh.faces, vertex_faces, half_edges, source);
 
-  std::vector<std::vector<int>> cycles = trace_cycles(half_edges, next, source);
+  std::vector<std::vector<int>> cycles = trace_cycles(half_edges, linked.next, source);
   std::vector<BoundaryLoop> loops;
   loops.reserve(cycles.size());
   for (auto& cycle : cycles) {
     loops.push_back(make_loop(static_cast<int>(loops.size()), std::move(cycle), mesh.positions));
   }
-  flag_pinched_loops(loops, pinched);
+  flag_pinched_loops(loops, linked.pinched);
   measure_turning(mesh, loops);
   return loops;
 }

@@ -3,7 +3,10 @@
 // minimise the fabric energy, then stitch the new vertices and faces.
 #include "foldfill/inpaint.h"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <optional>
 
@@ -11,6 +14,7 @@
 #include "foldfill/error.h"
 #include "foldfill/flatten.h"
 #include "foldfill/metrics.h"
+#include "foldfill/topology.h"
 
 namespace foldfill {
 namespace {
@@ -82,8 +86,83 @@ Mesh flat_mesh(const std::vector<Vec2>& uv, const std::vector<Tri>& faces) {
   return mesh;
 }
 
-HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOptions& options,
-                        const std::string& source) {
+// What every hole of one fill shares: the mesh, its vertex-face incidence,
+// the options, and the flag that cancels the whole fill.
+struct FillContext {
+  const Mesh& mesh;
+  const VertexFaces& vertex_faces;
+  const FillOptions& options;
+  const std::string& source;
+  std::atomic<bool>& cancelled;
+};
+
+std::string hole_source(const std::string& source, int loop_id) {
+  return source + ": loop " + std::to_string(loop_id);
+}
+
+void throw_if_cancelled(const FillContext& context, const std::string& where) {
+  if (context.cancelled.load(std::memory_order_relaxed))
+    throw Error(ErrorKind::FillFailed, where + ": cancelled");
+}
+
+// The minimised patch and the energy it was minimised with.
+struct Minimised {
+  std::optional<FabricEnergy> energy;
+  SolverResult solved;
+};
+
+// Minimises the fabric energy from the ARAP state. Vertex repulsion prevents
+// most self-intersections, but a fold under pressure can slip through between
+// vertices: when the result intersects itself, minimise again from the ARAP
+// state with ten times the repulsion, while the time limit allows.
+Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& initial,
+                         EnergyOptions energy_options, SolverOptions solver,
+                         const std::vector<Obstacle>& obstacles, HoleReport& report) {
+  const auto start = Clock::now();
+  const double time_limit = solver.time_limit_seconds;
+  Minimised result;
+  for (int attempt = 0;; ++attempt) {
+    if (time_limit > 0) {
+      const double remaining = time_limit - seconds_since(start);
+      if (attempt > 0 && remaining <= 0) break;
+      solver.time_limit_seconds = remaining;
+    }
+    result.energy.emplace(domain, energy_options);
+    result.solved = minimize_energy(*result.energy, obstacles, initial, solver);
+    report.iterations += result.solved.iterations;
+    report.repulsion = energy_options.repulsion;
+    report.self_intersections =
+        count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
+    if (report.self_intersections == 0 || attempt == kRepulsionRetries ||
+        result.solved.stop_reason == "cancelled") {
+      break;
+    }
+    energy_options.repulsion = std::max(10 * energy_options.repulsion, 1.0);
+  }
+  report.stop_reason = result.solved.stop_reason;
+  return result;
+}
+
+bool all_finite(const std::vector<Vec3>& positions) {
+  return std::all_of(positions.begin(), positions.end(), [](const Vec3& p) {
+    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+  });
+}
+
+// Why a kept patch deserves a look, or empty.
+std::string patch_warning(const HoleReport& report, const std::string& where) {
+  std::string warning;
+  if (report.stop_reason == "diverged")
+    warning = "the minimisation diverged after " + std::to_string(report.iterations) +
+              " iterations; its lowest-energy state was kept";
+  if (report.self_intersections > 0)
+    warning += (warning.empty() ? "" : "; ") + std::to_string(report.self_intersections) +
+               " self-intersecting triangle pairs remain";
+  return warning.empty() ? warning : where + ": " + warning;
+}
+
+HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
+  const FillOptions& options = context.options;
   HolePatch result;
   HoleReport& report = result.report;
   report.loop_id = loop.id;
@@ -91,9 +170,10 @@ HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOp
   result.loop = loop.vertices;
   const auto start = Clock::now();
 
-  const std::string hole_source = source + ": loop " + std::to_string(loop.id);
-  const Strip strip = extract_strip(mesh, loop, hole_source);
-  Flattening flat = flatten_strip(strip, hole_source);
+  const std::string where = hole_source(context.source, loop.id);
+  throw_if_cancelled(context, where);
+  const Strip strip = extract_strip(context.mesh, context.vertex_faces, loop, context.source);
+  Flattening flat = flatten_strip(strip, where);
   report.seconds.flatten = seconds_since(start);
 
   auto stage = Clock::now();
@@ -107,12 +187,14 @@ HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOp
     report.flat_patch = flat_mesh(patch.uv, patch.faces);
   }
 
+  throw_if_cancelled(context, where);
   stage = Clock::now();
   const EmbedDomain domain = make_embed_domain(strip, flat, patch);
   const std::vector<Vec3> initial = arap_embed(domain, options.arap);
   report.seconds.arap = seconds_since(stage);
   report.length_scale = domain.length_scale;
 
+  throw_if_cancelled(context, where);
   stage = Clock::now();
   EnergyOptions energy_options = options.energy;
   SolverOptions solver = options.solver;
@@ -123,31 +205,25 @@ HolePatch fill_one_hole(const Mesh& mesh, const BoundaryLoop& loop, const FillOp
     obstacles.push_back(normalized(o, domain.origin, domain.length_scale));
   }
   if (options.progress) {
-    solver.progress = [&](const SolverProgress& p) { return options.progress(loop.id, p); };
+    solver.progress = [&](const SolverProgress& p) {
+      if (context.cancelled.load(std::memory_order_relaxed)) return false;
+      if (options.progress(loop.id, p)) return true;
+      context.cancelled = true;
+      return false;
+    };
   }
-  // Vertex repulsion prevents most self-intersections, but a fold under
-  // pressure can slip through between vertices. When the result intersects
-  // itself, minimise again from the ARAP state with ten times the repulsion.
-  std::optional<FabricEnergy> energy;
-  SolverResult solved;
-  for (int attempt = 0;; ++attempt) {
-    energy.emplace(domain, energy_options);
-    solved = minimize_energy(*energy, obstacles, initial, solver);
-    report.iterations += solved.iterations;
-    report.self_intersections =
-        count_self_intersections(solved.positions, domain.faces, domain.strip_face_count);
-    if (report.self_intersections == 0 || attempt == kRepulsionRetries ||
-        solved.stop_reason == "cancelled") {
-      break;
-    }
-    energy_options.repulsion = std::max(10 * energy_options.repulsion, 1.0);
-  }
-  report.repulsion = energy_options.repulsion;
+  const Minimised minimised =
+      minimise_patch(domain, initial, energy_options, solver, obstacles, report);
+  const SolverResult& solved = minimised.solved;
   report.seconds.optimize = seconds_since(stage);
-  report.stop_reason = solved.stop_reason;
+  if (solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, where + ": cancelled");
+  if (!all_finite(solved.positions))
+    throw Error(ErrorKind::FillFailed,
+                where + ": the patch has non-finite positions (stop: " + solved.stop_reason + ")");
+  report.warning = patch_warning(report, where);
 
-  const PatchState after_arap = measure(*energy, initial);
-  const PatchState final_state = measure(*energy, solved.positions);
+  const PatchState after_arap = measure(*minimised.energy, initial);
+  const PatchState final_state = measure(*minimised.energy, solved.positions);
   report.energy_after_arap = after_arap.energy;
   report.energy_final = final_state.energy;
   report.gaussian_mean_abs_after_arap = after_arap.curvature.mean_abs;
@@ -194,34 +270,84 @@ void stitch(const HolePatch& patch, Mesh& mesh) {
   }
 }
 
+// Appends the filled patches in order. The arrays grow once to their final
+// size: growing by doubling would hold up to three times a large mesh.
+void stitch_all(const std::vector<HolePatch>& patches, Mesh& mesh) {
+  size_t new_vertices = 0, new_faces = 0;
+  for (const HolePatch& patch : patches) {
+    if (!patch.report.filled) continue;
+    new_vertices += patch.new_positions.size();
+    new_faces += patch.faces.size();
+  }
+  const size_t face_count = mesh.faces.size() + new_faces;
+  mesh.positions.reserve(mesh.positions.size() + new_vertices);
+  mesh.faces.reserve(face_count);
+  if (!mesh.face_texcoords.empty()) mesh.face_texcoords.reserve(face_count);
+  if (!mesh.face_normals.empty()) mesh.face_normals.reserve(face_count);
+  for (const HolePatch& patch : patches)
+    if (patch.report.filled) stitch(patch, mesh);
+}
+
+// Fills the holes in parallel; a hole that fails or is cancelled comes back
+// unfilled with its reason.
+std::vector<HolePatch> fill_patches(const FillContext& context,
+                                    const std::vector<BoundaryLoop>& loops,
+                                    const std::vector<int>& fill_ids) {
+  for (int id : fill_ids)
+    if (id < 0 || id >= static_cast<int>(loops.size()))
+      throw Error(ErrorKind::Usage, context.source + ": no loop with id " + std::to_string(id) +
+                                        " (the mesh has " + std::to_string(loops.size()) +
+                                        " loops)");
+  std::vector<HolePatch> patches(fill_ids.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int h = 0; h < static_cast<int>(fill_ids.size()); ++h) {
+    const BoundaryLoop& loop = loops[fill_ids[h]];
+    try {
+      patches[h] = fill_one_hole(context, loop);
+    } catch (const std::exception& e) {
+      // Stages that do not know the file and the loop get them here.
+      const std::string where = hole_source(context.source, loop.id);
+      const std::string message = e.what();
+      patches[h] = HolePatch{};
+      patches[h].report.loop_id = loop.id;
+      patches[h].report.loop_vertex_count = static_cast<int>(loop.vertices.size());
+      patches[h].report.reason =
+          message.rfind(where + ": ", 0) == 0 ? message : where + ": " + message;
+    }
+  }
+  return patches;
+}
+
 }  // namespace
 
 FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options,
                       const std::string& source) {
+  return fill_holes(Mesh(mesh), loops, fill_ids, options, source);
+}
+
+FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
+                      const std::vector<int>& fill_ids, const FillOptions& options,
+                      const std::string& source) {
   const auto start = Clock::now();
-  std::vector<HolePatch> patches(fill_ids.size());
-  // Holes are independent: fill them in parallel, stitch them in order, so the
-  // output does not depend on the thread count.
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int h = 0; h < static_cast<int>(fill_ids.size()); ++h) {
-    const BoundaryLoop& loop = loops.at(fill_ids[h]);
-    try {
-      patches[h] = fill_one_hole(mesh, loop, options, source);
-    } catch (const std::exception& e) {
-      patches[h] = HolePatch{};
-      patches[h].report.loop_id = loop.id;
-      patches[h].report.loop_vertex_count = static_cast<int>(loop.vertices.size());
-      patches[h].report.reason = e.what();
-    }
+  FillReport report;
+  std::vector<HolePatch> patches;
+  if (!fill_ids.empty()) {
+    const VertexFaces vertex_faces = build_vertex_faces(mesh.faces, mesh.vertex_count(), source);
+    report.seconds_prepare = seconds_since(start);
+    const auto holes_start = Clock::now();
+    std::atomic<bool> cancelled{false};
+    patches = fill_patches({mesh, vertex_faces, options, source, cancelled}, loops, fill_ids);
+    report.cancelled = cancelled;
+    report.seconds_holes = seconds_since(holes_start);
   }
-  FillResult result{mesh, {}};
-  for (const HolePatch& patch : patches) {
-    if (patch.report.filled) stitch(patch, result.mesh);
-    result.report.holes.push_back(patch.report);
-  }
-  result.report.seconds_total = seconds_since(start);
-  return result;
+  // Holes are stitched in order, so the output does not depend on the thread count.
+  const auto stitch_start = Clock::now();
+  stitch_all(patches, mesh);
+  report.seconds_stitch = seconds_since(stitch_start);
+  for (HolePatch& patch : patches) report.holes.push_back(std::move(patch.report));
+  report.seconds_total = seconds_since(start);
+  return {std::move(mesh), std::move(report)};
 }
 
 }  // namespace foldfill

@@ -222,23 +222,35 @@ std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
   return angles;
 }
 
-double integrated_abs_mean_curvature(const std::vector<Vec3>& positions,
-                                     const std::vector<Tri>& faces) {
-  const auto edge_faces = sorted_edge_faces(faces);
-  double integral = 0;
-  for (size_t i = 0; i + 1 < edge_faces.size();) {
-    size_t end = i + 1;
-    while (end < edge_faces.size() && edge_faces[end].first == edge_faces[i].first) ++end;
-    if (end - i == 2) {
-      const int a = static_cast<int>(edge_faces[i].first >> 32);
-      const int b = static_cast<int>(edge_faces[i].first & 0xffffffffu);
-      integral +=
-          0.5 * norm(sub(positions[a], positions[b])) *
-          normal_angle(positions, faces[edge_faces[i].second], faces[edge_faces[i + 1].second]);
+double mean_abs_mean_curvature(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                               const std::vector<int>& vertices) {
+  std::vector<Vec3> laplacian(positions.size(), Vec3{0, 0, 0}),
+      normal(positions.size(), Vec3{0, 0, 0});
+  std::vector<double> area(positions.size(), 0.0);
+  for (const Tri& f : faces) {
+    const Vec3 n = face_normal(positions, f);
+    const double double_area = norm(n);
+    if (!(double_area > 0)) continue;  // a degenerate face has no cotangents
+    for (int k = 0; k < 3; ++k) {
+      const int i = f[(k + 1) % 3], j = f[(k + 2) % 3];
+      const double cot_k =
+          dot(sub(positions[i], positions[f[k]]), sub(positions[j], positions[f[k]])) / double_area;
+      const Vec3 e = sub(positions[j], positions[i]);
+      for (int c = 0; c < 3; ++c) {
+        laplacian[i][c] += cot_k * e[c];
+        laplacian[j][c] -= cot_k * e[c];
+        normal[f[k]][c] += n[c];
+      }
+      area[f[k]] += double_area / 6;
     }
-    i = end;
   }
-  return integral;
+  double integral = 0, total = 0;
+  for (int v : vertices) {
+    const double length = norm(normal[v]);
+    if (length > 0) integral += std::abs(dot(laplacian[v], normal[v])) / (4 * length);
+    total += area[v];
+  }
+  return total > 0 ? integral / total : 0;
 }
 
 TriangleQuality triangle_quality(const std::vector<Vec3>& positions,

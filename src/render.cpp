@@ -144,18 +144,61 @@ Image side_by_side(const std::vector<Image>& images) {
   return out;
 }
 
+namespace {
+
+// The image as palette indices with its palette (RGB triples, at most 256),
+// or false when it has more colours than a palette holds.
+bool to_palette(const Image& image, std::vector<std::uint8_t>& indices,
+                std::vector<std::uint8_t>& palette) {
+  std::vector<std::uint32_t> colours;
+  const size_t pixels = image.rgb.size() / 3;
+  std::vector<std::uint32_t> packed(pixels);
+  for (size_t p = 0; p < pixels; ++p) {
+    packed[p] = static_cast<std::uint32_t>(image.rgb[3 * p]) << 16 |
+                static_cast<std::uint32_t>(image.rgb[3 * p + 1]) << 8 | image.rgb[3 * p + 2];
+  }
+  colours = packed;
+  std::sort(colours.begin(), colours.end());
+  colours.erase(std::unique(colours.begin(), colours.end()), colours.end());
+  if (colours.size() > 256) return false;
+  indices.resize(pixels);
+  for (size_t p = 0; p < pixels; ++p) {
+    indices[p] = static_cast<std::uint8_t>(
+        std::lower_bound(colours.begin(), colours.end(), packed[p]) - colours.begin());
+  }
+  palette.clear();
+  for (std::uint32_t c : colours) {
+    palette.insert(palette.end(),
+                   {static_cast<std::uint8_t>(c >> 16), static_cast<std::uint8_t>(c >> 8),
+                    static_cast<std::uint8_t>(c)});
+  }
+  return true;
+}
+
+}  // namespace
+
 void write_png(const Image& image, const std::string& path) {
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
+  // Few colours (flat renderings): an indexed PNG, about a third of the size.
+  std::vector<std::uint8_t> indices, palette;
+  const void* pixels = image.rgb.data();
+  const void* colormap = nullptr;
+  if (to_palette(image, indices, palette)) {
+    png.format = PNG_FORMAT_RGB_COLORMAP;
+    png.colormap_entries = static_cast<png_uint_32>(palette.size() / 3);
+    pixels = indices.data();
+    colormap = palette.data();
+  }
   png_alloc_size_t size = 0;
-  if (!png_image_write_get_memory_size(png, size, 0, image.rgb.data(), 0, nullptr)) {
+  if (!png_image_write_get_memory_size(png, size, 0, pixels, 0, colormap)) {
     throw Error(ErrorKind::CannotWrite, path + ": cannot encode PNG");
   }
   std::string bytes(size, '\0');
-  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.rgb.data(), 0, nullptr)) {
+  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, pixels, 0, colormap)) {
     throw Error(ErrorKind::CannotWrite, path + ": cannot encode PNG");
   }
   bytes.resize(size);

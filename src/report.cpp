@@ -23,6 +23,7 @@ nlohmann::json to_json(const HoleReport& hole) {
     j["reason"] = hole.reason;
     return j;
   }
+  if (!hole.warning.empty()) j["warning"] = hole.warning;
   const Flattening& fit = hole.flattening_fit;
   j.update({
       {"patch_vertex_count", hole.patch_vertex_count},
@@ -68,7 +69,13 @@ nlohmann::json to_json(const HoleReport& hole) {
 nlohmann::json to_json(const FillReport& report) {
   nlohmann::json holes = nlohmann::json::array();
   for (const HoleReport& hole : report.holes) holes.push_back(to_json(hole));
-  return {{"holes", holes}, {"seconds_total", report.seconds_total}};
+  return {{"holes", holes},
+          {"cancelled", report.cancelled},
+          {"seconds",
+           {{"prepare", report.seconds_prepare},
+            {"holes", report.seconds_holes},
+            {"stitch", report.seconds_stitch}}},
+          {"seconds_total", report.seconds_total}};
 }
 
 }  // namespace foldfill

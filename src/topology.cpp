@@ -1,5 +1,6 @@
-// Edge adjacency of a triangle list, built by bucketing half-edges on their
-// smaller endpoint (a counting sort) and sorting each small bucket.
+// Edge adjacency of a triangle list, built vertex by vertex from the faces
+// around each vertex (compressed rows, a counting sort): the half-edges from a
+// vertex to larger ones, sorted, give its edges in order.
 #include "foldfill/topology.h"
 
 #include <algorithm>
@@ -30,56 +31,23 @@ void check_face_indices(const std::vector<Tri>& faces, int vertex_count,
   }
 }
 
-// A half-edge seen from the bucket of its smaller endpoint: `other` is the
-// larger endpoint, `half_edge` = 3 * face + corner (the edge face[k] -> face[k+1]).
-struct BucketEntry {
+// A half-edge seen from its smaller endpoint v: `other` is the larger one,
+// `half_edge` = 3 * face + corner (the edge face[corner] -> face[corner + 1]).
+struct HalfEdgeAt {
   int other;
   int half_edge;
-  bool operator<(const BucketEntry& rhs) const {
+  bool operator<(const HalfEdgeAt& rhs) const {
     return std::pair(other, half_edge) < std::pair(rhs.other, rhs.half_edge);
   }
 };
-
-// Half-edges grouped by smaller endpoint (CSR layout), each bucket sorted by
-// (larger endpoint, half-edge), so equal undirected edges are adjacent and in
-// face order.
-struct HalfEdgeBuckets {
-  std::vector<int> start;  // bucket of vertex v is entries[start[v], start[v + 1])
-  std::vector<BucketEntry> entries;
-};
-
-HalfEdgeBuckets bucket_half_edges(const std::vector<Tri>& faces, int vertex_count) {
-  HalfEdgeBuckets buckets;
-  buckets.start.assign(vertex_count + 1, 0);
-  for (const Tri& face : faces) {
-    for (int k = 0; k < 3; ++k) ++buckets.start[std::min(face[k], face[(k + 1) % 3]) + 1];
-  }
-  for (int v = 0; v < vertex_count; ++v) buckets.start[v + 1] += buckets.start[v];
-
-  buckets.entries.resize(faces.size() * 3);
-  std::vector<int> cursor(buckets.start.begin(), buckets.start.end() - 1);
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = faces[f][k], b = faces[f][(k + 1) % 3];
-      buckets.entries[cursor[std::min(a, b)]++] = {std::max(a, b), static_cast<int>(3 * f + k)};
-    }
-  }
-  for (int v = 0; v < vertex_count; ++v) {
-    std::sort(buckets.entries.begin() + buckets.start[v],
-              buckets.entries.begin() + buckets.start[v + 1]);
-  }
-  return buckets;
-}
 
 std::string edge_name(int v0, int v1) {
   return "edge (" + std::to_string(v0) + ", " + std::to_string(v1) + ")";
 }
 
-// Makes the edge (v0, v1) from its half-edges `run` and records it in
-// `face_edges`; throws when the half-edges do not form a manifold,
-// consistently oriented edge.
-Edge make_edge(const std::vector<Tri>& faces, int v0, const BucketEntry* run, int run_size,
-               int edge_index, std::vector<std::array<int, 3>>& face_edges,
+// Makes the edge (v0, run[0].other) from its half-edges `run`; throws when
+// they do not form a manifold, consistently oriented edge.
+Edge make_edge(const std::vector<Tri>& faces, int v0, const HalfEdgeAt* run, int run_size,
                const std::string& source) {
   Edge edge;
   edge.v0 = v0;
@@ -99,7 +67,6 @@ Edge make_edge(const std::vector<Tri>& faces, int v0, const BucketEntry* run, in
     }
     edge.face[side] = face;
     edge.opposite[side] = faces[face][(corner + 2) % 3];
-    face_edges[face][corner] = edge_index;
   }
   return edge;
 }
@@ -122,25 +89,51 @@ VertexFaces build_vertex_faces(const std::vector<Tri>& faces, int vertex_count,
   return incidence;
 }
 
+void edges_from_vertex(const std::vector<Tri>& faces, const VertexFaces& vertex_faces, int v,
+                       std::vector<Edge>& edges, const std::string& source) {
+  // The half-edges of v's faces to larger vertices, sorted by (other end,
+  // half-edge): those of one edge are adjacent and in face order. The buffer
+  // is reused by the calls of one thread (one call per vertex of a mesh).
+  thread_local std::vector<HalfEdgeAt> half_edges;
+  half_edges.clear();
+  for (int i = vertex_faces.start[v]; i < vertex_faces.start[v + 1]; ++i) {
+    const int f = vertex_faces.faces[i];
+    const Tri& face = faces[f];
+    const int k = face[0] == v ? 0 : face[1] == v ? 1 : 2;
+    const int next = face[(k + 1) % 3], previous = face[(k + 2) % 3];
+    if (next > v) half_edges.push_back({next, 3 * f + k});
+    if (previous > v) half_edges.push_back({previous, 3 * f + (k + 2) % 3});
+  }
+  std::sort(half_edges.begin(), half_edges.end());
+  edges.clear();
+  for (size_t i = 0; i < half_edges.size();) {
+    size_t end = i + 1;
+    while (end < half_edges.size() && half_edges[end].other == half_edges[i].other) ++end;
+    edges.push_back(make_edge(faces, v, &half_edges[i], static_cast<int>(end - i), source));
+    i = end;
+  }
+}
+
 EdgeTopology build_edge_topology(const std::vector<Tri>& faces, int vertex_count,
                                  const std::string& source) {
-  check_face_indices(faces, vertex_count, source);
-  const HalfEdgeBuckets buckets = bucket_half_edges(faces, vertex_count);
-
+  const VertexFaces vertex_faces = build_vertex_faces(faces, vertex_count, source);
   EdgeTopology topology;
   topology.face_edges.assign(faces.size(), {-1, -1, -1});
   topology.edges.reserve(faces.size() * 3 / 2 + 3);
+  std::vector<Edge> around;
   for (int v = 0; v < vertex_count; ++v) {
-    const int end = buckets.start[v + 1];
-    for (int i = buckets.start[v]; i < end;) {
-      int run_end = i + 1;
-      while (run_end < end && buckets.entries[run_end].other == buckets.entries[i].other) {
-        ++run_end;
+    edges_from_vertex(faces, vertex_faces, v, around, source);
+    for (const Edge& edge : around) {
+      const int index = static_cast<int>(topology.edges.size());
+      // Face 0 has the edge as v0 -> v1 (its corner at v0), face 1 as v1 -> v0.
+      for (int side = 0; side < 2; ++side) {
+        const int f = edge.face[side];
+        if (f < 0) continue;
+        const int from = side == 0 ? edge.v0 : edge.v1;
+        const int corner = faces[f][0] == from ? 0 : faces[f][1] == from ? 1 : 2;
+        topology.face_edges[f][corner] = index;
       }
-      topology.edges.push_back(make_edge(faces, v, &buckets.entries[i], run_end - i,
-                                         static_cast<int>(topology.edges.size()),
-                                         topology.face_edges, source));
-      i = run_end;
+      topology.edges.push_back(edge);
     }
   }
   return topology;

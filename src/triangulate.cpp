@@ -79,11 +79,17 @@ void check_polygon(const std::vector<Vec2>& polygon) {
                                            "is expected");
 }
 
+// The length-weighted mean edge length, sum l^2 / sum l: the mean for even
+// edges, but unmoved when a few edges are split into many tiny ones (a plain
+// mean would then shrink the spacing and blow up the patch).
 double mean_edge_length(const std::vector<Vec2>& polygon) {
-  double sum = 0;
-  for (size_t k = 0; k < polygon.size(); ++k)
-    sum += distance(polygon[k], polygon[(k + 1) % polygon.size()]);
-  return sum / static_cast<double>(polygon.size());
+  double sum = 0, sum_squares = 0;
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const double l = distance(polygon[k], polygon[(k + 1) % polygon.size()]);
+    sum += l;
+    sum_squares += l * l;
+  }
+  return sum_squares / sum;
 }
 
 double polygon_area(const std::vector<Vec2>& polygon) {

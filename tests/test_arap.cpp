@@ -87,6 +87,30 @@ TEST(Arap, RigidlyMovedBoundaryGivesTheRigidlyMovedPatch) {
   }
 }
 
+// The mirror image of the flat domain (v -> -v) is the flat domain turned
+// over: rotations alone must reach it, without reflections creeping in.
+TEST(Arap, MirroredBoundaryGivesTheMirroredPatch) {
+  const auto mirrored = [](const Vec2& uv) { return rigid_motion({uv[0], -uv[1]}); };
+  const EmbedDomain domain = lattice_domain(12, 11, mirrored);
+  const std::vector<Vec3> x = arap_embed(domain, {1.0, 30});
+  for (int i = domain.fixed_count; i < domain.vertex_count(); ++i)
+    EXPECT_LT(length(x[i], mirrored(domain.rest_uv[i])), 1e-8) << i;
+}
+
+// A boundary collapsed onto a line gives one-rings whose fit has rank one
+// (any rotation about the line fits equally): the patch must still come out
+// finite and near the line, not thrown off by an arbitrary frame.
+TEST(Arap, BoundaryCollapsedOntoALineStaysNearIt) {
+  const EmbedDomain domain = lattice_domain(9, 8, [](const Vec2& uv) { return Vec3{uv[0], 0, 0}; });
+  const std::vector<Vec3> x = arap_embed(domain, {0.5, 30});
+  for (int i = domain.fixed_count; i < domain.vertex_count(); ++i) {
+    ASSERT_TRUE(std::isfinite(x[i][0]) && std::isfinite(x[i][1]) && std::isfinite(x[i][2])) << i;
+    EXPECT_GT(x[i][0], 0.0) << i;
+    EXPECT_LT(x[i][0], 8.5) << i;
+    EXPECT_LT(std::hypot(x[i][1], x[i][2]), 3.0) << i;
+  }
+}
+
 TEST(Arap, FixedVerticesAreReturnedBitForBit) {
   const EmbedDomain domain = lattice_domain(10, 9, onto_cylinder(2.0));
   const std::vector<Vec3> x = arap_embed(domain, {0.5, 10});

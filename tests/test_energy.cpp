@@ -342,6 +342,30 @@ TEST(Repulsion, MatchesAllPairsSearch) {
   EXPECT_NEAR(energy.evaluate(x).repulsion, expected, 1e-12 * expected);
 }
 
+// The candidate pairs found at one state are reused while vertices move
+// little: along a path of small steps from the rolled state to a squeezed one,
+// and after a jump back, the energy and its gradient are bit for bit those of
+// a fresh object, which searches all pairs at that very state.
+TEST(Repulsion, ReusedCandidatesGiveTheEnergyOfAFreshSearch) {
+  const EmbedDomain domain = grid_domain(14, rolled(4));
+  const Eigen::VectorXd start = embedded_variables(domain, rolled(4));
+  const Eigen::VectorXd squeezed = SqueezedCase::squeeze(perturbed(start, 0.2, 9));
+  const EnergyOptions options = weights(0.1, 1, BendingModel::Quadratic);
+  const FabricEnergy reused(domain, options);
+  std::vector<Eigen::VectorXd> path;
+  for (int k = 0; k <= 40; ++k) path.push_back(start + (k / 40.0) * (squeezed - start));
+  path.push_back(start);
+  for (const Eigen::VectorXd& x : path) {
+    Eigen::VectorXd g_reused, g_fresh;
+    const EnergyTerms terms = reused.evaluate(x, &g_reused);
+    const EnergyTerms fresh = FabricEnergy(domain, options).evaluate(x, &g_fresh);
+    EXPECT_EQ(terms.repulsion, fresh.repulsion);
+    EXPECT_EQ(terms.total, fresh.total);
+    EXPECT_TRUE(g_reused == g_fresh);
+  }
+  EXPECT_GT(reused.evaluate(squeezed).repulsion, 0.1);
+}
+
 TEST(QuadraticBending, HessianIsSymmetricPositiveSemidefinite) {
   const EmbedDomain domain = grid_domain(7);
   const FabricEnergy energy(domain, {});

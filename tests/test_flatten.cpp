@@ -20,6 +20,7 @@
 #include "foldfill/flatten.h"
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
+#include "foldfill/topology.h"
 #include "foldfill/triangulate.h"
 #include "test_support.h"
 
@@ -224,6 +225,37 @@ TEST(ExtractStrip, NumbersLoopFirstThenRingInFaceOrder) {
   EXPECT_EQ(flatten_strip(strip).uv, flat.uv);
 }
 
+TEST(ExtractStrip, FromTheVertexFacesIsTheSameStrip) {
+  const Mesh mesh = grid_without(6, 6, [](int i, int j, bool) { return in_block(i, j); });
+  const BoundaryLoop loop = hole_loop(mesh);
+  const VertexFaces vertex_faces = build_vertex_faces(mesh.faces, mesh.vertex_count());
+  const Strip scanned = extract_strip(mesh, loop),
+              indexed = extract_strip(mesh, vertex_faces, loop);
+  EXPECT_EQ(indexed.positions, scanned.positions);
+  EXPECT_EQ(indexed.faces, scanned.faces);
+  EXPECT_EQ(indexed.to_input, scanned.to_input);
+  EXPECT_EQ(indexed.input_faces, scanned.input_faces);
+  EXPECT_EQ(indexed.loop_size, scanned.loop_size);
+}
+
+TEST(VertexFaces, ListsTheFacesOfEveryVertexAscending) {
+  const Mesh mesh =
+      grid_without(4, 3, [](int i, int j, bool upper) { return i == 1 && j == 1 && upper; });
+  const VertexFaces incidence = build_vertex_faces(mesh.faces, mesh.vertex_count());
+  ASSERT_EQ(incidence.vertex_count(), mesh.vertex_count());
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    std::vector<int> expected;
+    for (int f = 0; f < mesh.face_count(); ++f)
+      if (std::count(mesh.faces[f].begin(), mesh.faces[f].end(), v)) expected.push_back(f);
+    EXPECT_EQ(std::vector<int>(incidence.faces.begin() + incidence.start[v],
+                               incidence.faces.begin() + incidence.start[v + 1]),
+              expected);
+  }
+  Mesh bad = mesh;
+  bad.faces[2][1] = mesh.vertex_count();
+  EXPECT_THROW(build_vertex_faces(bad.faces, bad.vertex_count()), Error);
+}
+
 void expect_not_a_disk(const Mesh& mesh, const BoundaryLoop& loop, const std::string& reason) {
   try {
     extract_strip(mesh, loop, "grid.obj");
@@ -270,7 +302,7 @@ TEST(ExtractStrip, RefusesALoopWhoseStripIsNotAnAnnulus) {
   triangle.faces = {{0, 1, 2}};
   BoundaryLoop loop;
   loop.vertices = {0, 2, 1};
-  expect_not_a_disk(triangle, loop, "not an annulus");
+  expect_not_a_disk(triangle, loop, "do not form a flat ring around the hole");
 }
 
 TEST(ExtractStrip, RefusesALoopFlaggedAsNoDisk) {

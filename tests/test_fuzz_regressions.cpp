@@ -68,7 +68,9 @@ TEST(FuzzRegressions, EveryFileReadsOrFailsCleanly) {
     const MeshFormat format = format_from_path(path.string());
     expect_clean(path, [&](const std::string& bytes) {
       const bool accepted = fuzz::read_mesh_bytes(bytes, format);
-      if (is_seed(path)) EXPECT_TRUE(accepted) << path.filename() << ": a seed must be valid";
+      if (is_seed(path)) {
+        EXPECT_TRUE(accepted) << path.filename() << ": a seed must be valid";
+      }
     });
   }
 }
@@ -79,7 +81,9 @@ TEST(FuzzRegressions, EveryObjFillsOrFailsCleanly) {
     expect_clean(path, [&](const std::string& bytes) {
       const int filled = fuzz::fill_mesh_bytes(bytes);
       // The seed sheet has one hole: the harness must reach the whole fill.
-      if (is_seed(path)) EXPECT_EQ(filled, 1) << path.filename();
+      if (is_seed(path)) {
+        EXPECT_EQ(filled, 1) << path.filename();
+      }
     });
   }
 }

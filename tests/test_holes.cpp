@@ -374,6 +374,23 @@ TEST(Holes, ManyHolesInALargeGrid) {
   EXPECT_EQ(select_holes(loops, {}).fill.size(), removed.size());
 }
 
+// A fan of many triangles around one vertex: the faces around a vertex are
+// grouped in O(d log d), not O(d^2).
+TEST(Holes, VertexOfVeryHighDegree) {
+  const int around = 200000;
+  Mesh fan;
+  fan.positions.push_back({0, 0, 0});
+  for (int k = 0; k < around; ++k) {
+    const double angle = 2 * M_PI * k / around;
+    fan.positions.push_back({std::cos(angle), std::sin(angle), 0});
+  }
+  for (int k = 0; k < around; ++k) fan.faces.push_back({0, 1 + k, 1 + (k + 1) % around});
+  const auto loops = find_boundary_loops(fan);
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].vertices.size(), static_cast<size_t>(around));
+  EXPECT_TRUE(loops[0].is_disk);
+}
+
 // The reference cases: the hole loop has the documented size, the other loops
 // are the outer boundaries, and both the default and `near` pick the hole.
 TEST(Holes, ReferenceCases) {

@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <atomic>
 #include <cmath>
+#include <string>
 
+#include "foldfill/error.h"
 #include "foldfill/examples.h"
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
@@ -70,7 +73,8 @@ TEST(Inpaint, ScalingTheInputScalesTheOutput) {
   double worst = 0;
   for (int v = cut.cut.mesh.vertex_count(); v < unit.mesh.vertex_count(); ++v) {
     for (int k = 0; k < 3; ++k) {
-      worst = std::max(worst, std::abs(big.mesh.positions[v][k] / 1000 - unit.mesh.positions[v][k]));
+      worst =
+          std::max(worst, std::abs(big.mesh.positions[v][k] / 1000 - unit.mesh.positions[v][k]));
     }
   }
   EXPECT_LT(worst, 1e-6 * unit.report.holes[0].length_scale * 10);
@@ -128,6 +132,210 @@ TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
   EXPECT_FALSE(result.report.holes[0].reason.empty());
   EXPECT_EQ(result.mesh.positions, cut.cut.mesh.positions);
   EXPECT_EQ(result.mesh.faces, cut.cut.mesh.faces);
+}
+
+// ---- Limits ----------------------------------------------------------------------
+
+bool starts_with(const std::string& text, const std::string& prefix) {
+  return text.rfind(prefix, 0) == 0;
+}
+
+// A hole whose patch has about 8,000 vertices (its minimisation takes seconds).
+CutMesh big_hole() {
+  FoldedSheetOptions options;
+  options.width = 3;
+  options.height = 2.4;
+  options.edge_length = 0.016;
+  options.amplitude = 0.15;
+  options.folds = 3;
+  return cut_disk_hole(make_folded_sheet(options), {1.9, 1.2}, 0.8);
+}
+
+TEST(InpaintLimits, TimeLimitBoundsTheMinimisationOfABigPatch) {
+  const CutMesh cut = big_hole();
+  FillOptions options;
+  options.solver.time_limit_seconds = 0.3;
+  const FillResult result = fill_default(cut.cut.mesh, options);
+  const HoleReport& hole = result.report.holes.at(0);
+  ASSERT_TRUE(hole.filled) << hole.reason;
+  EXPECT_GT(hole.patch_vertex_count, 5000);
+  EXPECT_EQ(hole.stop_reason, "time_limit");
+  EXPECT_LT(hole.seconds.optimize, 3 * options.solver.time_limit_seconds);
+  EXPECT_LE(hole.energy_final.total, hole.energy_after_arap.total);
+}
+
+// Several holes, to be filled in parallel.
+CutMesh four_holes() {
+  FoldedSheetOptions options;
+  options.edge_length = 0.1;
+  CutMesh cut{make_folded_sheet(options), 0, 0};
+  for (const Vec2& centre : {Vec2{1.2, 0.9}, Vec2{3.6, 0.9}, Vec2{1.2, 2.1}, Vec2{3.6, 2.1}})
+    cut = cut_disk_hole(cut.cut, centre, 0.4);
+  return cut;
+}
+
+TEST(InpaintLimits, CancellingFromTheProgressCallbackStopsEveryHole) {
+  const Mesh mesh = four_holes().cut.mesh;
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const std::vector<int> holes = select_holes(loops, HoleSelection{}).fill;
+  ASSERT_EQ(holes.size(), 4u);
+  std::atomic<int> calls{0};
+  FillOptions options;
+  options.progress = [&](int, const SolverProgress&) {
+    ++calls;
+    return false;
+  };
+  const FillResult result = fill_holes(mesh, loops, holes, options, "sheet.obj");
+  EXPECT_TRUE(result.report.cancelled);
+  // Once one hole has cancelled, no other asks again: at most one call per thread.
+  EXPECT_GE(calls.load(), 1);
+  EXPECT_LE(calls.load(), omp_get_max_threads());
+  for (const HoleReport& hole : result.report.holes) {
+    EXPECT_FALSE(hole.filled);
+    EXPECT_EQ(hole.reason, "sheet.obj: loop " + std::to_string(hole.loop_id) + ": cancelled");
+  }
+  EXPECT_EQ(result.mesh.positions, mesh.positions);
+  EXPECT_EQ(result.mesh.faces, mesh.faces);
+}
+
+TEST(InpaintLimits, CancellingLaterKeepsTheHolesAlreadyFilled) {
+  const Mesh mesh = four_holes().cut.mesh;
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const std::vector<int> holes = select_holes(loops, HoleSelection{}).fill;
+  // The callback cancels when a third hole starts minimising: the holes that
+  // had finished by then stay filled, the others are left open.
+  std::atomic<int> finished{0};
+  FillOptions options;
+  options.progress = [&](int, const SolverProgress& p) {
+    if (p.iteration == 1) ++finished;
+    return finished < 3;
+  };
+  const FillResult result = fill_holes(mesh, loops, holes, options, "sheet.obj");
+  EXPECT_TRUE(result.report.cancelled);
+  int filled = 0;
+  for (const HoleReport& hole : result.report.holes) {
+    filled += hole.filled;
+    if (!hole.filled) {
+      EXPECT_NE(hole.reason.find("cancelled"), std::string::npos) << hole.reason;
+    }
+  }
+  EXPECT_LT(filled, 4);
+  // The result is a valid mesh: the input, and the filled holes closed.
+  EXPECT_TRUE(std::equal(mesh.faces.begin(), mesh.faces.end(), result.mesh.faces.begin()));
+  std::vector<BoundaryLoop> after;
+  ASSERT_NO_THROW(after = find_boundary_loops(result.mesh));
+  EXPECT_EQ(after.size(), loops.size() - filled);
+}
+
+TEST(InpaintLimits, DivergenceKeepsTheBestStateAndIsReported) {
+  const CutMesh cut = folded_sheet_with_hole();
+  FillOptions options;
+  options.solver.kind = SolverKind::GradientDescent;
+  options.solver.step = 1e3;  // every step overshoots: the energy explodes
+  const FillResult result = fill_default(cut.cut.mesh, options);
+  const HoleReport& hole = result.report.holes.at(0);
+  ASSERT_TRUE(hole.filled) << hole.reason;
+  EXPECT_EQ(hole.stop_reason, "diverged");
+  EXPECT_NE(hole.warning.find("diverged"), std::string::npos) << hole.warning;
+  EXPECT_TRUE(starts_with(hole.warning, "mesh: loop " + std::to_string(hole.loop_id) + ": "));
+  // The lowest-energy state seen is kept: here the start, the ARAP state.
+  EXPECT_EQ(hole.energy_final.total, hole.energy_after_arap.total);
+  for (int v = cut.cut.mesh.vertex_count(); v < result.mesh.vertex_count(); ++v)
+    for (double x : result.mesh.positions[v]) EXPECT_TRUE(std::isfinite(x));
+  EXPECT_EQ(find_boundary_loops(result.mesh).size(), 1u);
+}
+
+TEST(InpaintLimits, NonFiniteWeightsAreRefusedNotACrash) {
+  const CutMesh cut = folded_sheet_with_hole();
+  FillOptions options;
+  options.energy.lambda = std::nan("");
+  const FillResult result = fill_default(cut.cut.mesh, options);
+  const HoleReport& hole = result.report.holes.at(0);
+  EXPECT_FALSE(hole.filled);
+  EXPECT_TRUE(starts_with(hole.reason, "mesh: loop " + std::to_string(hole.loop_id) + ": "))
+      << hole.reason;
+  EXPECT_EQ(result.mesh.positions, cut.cut.mesh.positions);
+  EXPECT_EQ(result.mesh.faces, cut.cut.mesh.faces);
+}
+
+// ---- Refusals name the file and the loop ----------------------------------------
+
+// A collar whose inner ring ripples up and down, far longer than the outer
+// ring: no flat annulus has such a hole, its flattening crosses itself.
+Mesh rippled_collar() {
+  const int segments = 48;
+  Mesh collar;
+  for (int ring = 0; ring < 2; ++ring)
+    for (int k = 0; k < segments; ++k) {
+      const double angle = 2 * M_PI * k / segments, radius = ring == 0 ? 1.0 : 1.3;
+      const double height = ring == 0 ? 0.6 * std::sin(8 * angle) : 0;
+      collar.positions.push_back({radius * std::cos(angle), radius * std::sin(angle), height});
+    }
+  for (int k = 0; k < segments; ++k) {
+    const int a = k, b = (k + 1) % segments, c = segments + b, d = segments + a;
+    collar.faces.push_back({a, d, c});
+    collar.faces.push_back({a, c, b});
+  }
+  return collar;
+}
+
+TEST(InpaintRefusals, AnUnknownLoopIdThrows) {
+  const CutMesh cut = folded_sheet_with_hole();
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh);
+  EXPECT_THROW(fill_holes(cut.cut.mesh, loops, {0, static_cast<int>(loops.size())}), Error);
+  EXPECT_THROW(fill_holes(cut.cut.mesh, loops, {-1}), Error);
+}
+
+TEST(InpaintRefusals, AFlatteningThatFailsNamesTheFileAndTheLoop) {
+  const Mesh collar = rippled_collar();
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(collar, "collar.obj");
+  const int inner = loops[0].vertices[0] < 48 ? 0 : 1;
+  const FillResult result = fill_holes(collar, loops, {inner}, {}, "collar.obj");
+  const HoleReport& hole = result.report.holes.at(0);
+  EXPECT_FALSE(hole.filled);
+  EXPECT_EQ(hole.reason, "collar.obj: loop " + std::to_string(inner) +
+                             ": the flattened hole outline crosses itself");
+  EXPECT_EQ(result.mesh.faces, collar.faces);
+}
+
+TEST(InpaintRefusals, AnOuterEdgeIsNotFilled) {
+  const CutMesh cut = folded_sheet_with_hole();
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh, "sheet.obj");
+  const int outer = default_outer_loops(loops).at(0);
+  const FillResult result = fill_holes(cut.cut.mesh, loops, {outer}, {}, "sheet.obj");
+  const HoleReport& hole = result.report.holes.at(0);
+  EXPECT_FALSE(hole.filled);
+  EXPECT_TRUE(starts_with(hole.reason, "sheet.obj: loop " + std::to_string(outer) + ": "))
+      << hole.reason;
+  EXPECT_NE(hole.reason.find("outer edge"), std::string::npos) << hole.reason;
+}
+
+TEST(InpaintRefusals, ALoopThatIsNotADiskNamesTheFileAndTheLoop) {
+  // Two missing squares that share a corner: the boundary passes it twice.
+  Mesh grid;
+  const int n = 6;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) grid.positions.push_back({double(i), double(j), 0});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if ((i == 2 && j == 2) || (i == 3 && j == 3)) continue;
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      grid.faces.push_back({a, b, c});
+      grid.faces.push_back({a, c, d});
+    }
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(grid, "grid.obj");
+  std::vector<int> pinched;
+  for (const BoundaryLoop& loop : loops)
+    if (!loop.is_disk) pinched.push_back(loop.id);
+  ASSERT_FALSE(pinched.empty());
+  const FillResult result = fill_holes(grid, loops, pinched, {}, "grid.obj");
+  for (const HoleReport& hole : result.report.holes) {
+    EXPECT_FALSE(hole.filled);
+    EXPECT_TRUE(
+        starts_with(hole.reason, "grid.obj: loop " + std::to_string(hole.loop_id) + ": touches "))
+        << hole.reason;
+  }
+  EXPECT_EQ(result.mesh.faces, grid.faces);
 }
 
 }  // namespace

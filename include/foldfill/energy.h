@@ -15,9 +15,9 @@ enum class BendingModel { Quadratic, TwoRing };
 
 // Weights are for the normalised domain (unit = mean loop edge length).
 struct EnergyOptions {
-  double lambda = 0.03;       // bending weight relative to the isometric term
+  double lambda = 0.03;  // bending weight relative to the isometric term
   BendingModel bending = BendingModel::Quadratic;
-  double repulsion = 1.0;     // kappa, relative to the isometric term
+  double repulsion = 1.0;             // kappa, relative to the isometric term
   double repulsion_radius = 1 / 1.3;  // r_i = shortest incident rest edge * this
 };
 
@@ -31,8 +31,10 @@ struct EnergyTerms {
 // Precomputes everything that does not change during the minimisation (rest
 // lengths, the constant bending Hessian, repulsion radii). Variables are the
 // free vertices' positions, a vector of 3 * free_count (x, y, z interleaved).
-// evaluate() reuses scratch buffers of the object, so one object must not be
-// evaluated from two threads at once (each hole has its own energy object).
+// evaluate() reuses scratch buffers of the object and the repulsion's list of
+// candidate pairs (kept while vertices move little; the result does not depend
+// on it, bit for bit), so one object must not be evaluated from two threads at
+// once (each hole has its own energy object).
 class FabricEnergy {
  public:
   FabricEnergy(const EmbedDomain& domain, const EnergyOptions& options);
@@ -54,6 +56,13 @@ class FabricEnergy {
     double rest_length;
   };
   const std::vector<Spring>& springs() const { return springs_; }
+  // A pair of vertices that may repel: j < i, i free, pair radius (r_i + r_j) / 2.
+  struct RepulsionPair {
+    int i, j;
+    double radius;
+  };
+  // The two-ring model's bending springs (weight lambda), empty for quadratic.
+  const std::vector<Spring>& two_ring_springs() const { return two_ring_springs_; }
   // Constant bending Hessian over all domain vertices (per coordinate) for the
   // quadratic model, empty for two-ring.
   const Eigen::SparseMatrix<double>& bending_hessian() const { return bending_hessian_; }
@@ -61,15 +70,28 @@ class FabricEnergy {
  private:
   EmbedDomain domain_;
   EnergyOptions options_;
-  std::vector<Spring> springs_;          // isometric edges
+  std::vector<Spring> springs_;           // isometric edges
   std::vector<Spring> two_ring_springs_;  // bending springs of the two-ring model
   Eigen::SparseMatrix<double> bending_hessian_;
   std::vector<double> repulsion_radius_;  // per domain vertex
   // Domain vertex adjacency (CSR, sorted): pairs joined by an edge do not repel.
   std::vector<int> neighbour_start_, neighbours_;
-  // Scratch of evaluate(): all domain positions (fixed rows set once) and forces.
   using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  // The bending Hessian split by free (f) and fixed (x) vertices: H_ff, H_fx
+  // p_x and p_x^T H_xx p_x summed over coordinates.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> free_bending_hessian_;
+  Points fixed_bending_force_;
+  double fixed_bending_energy_ = 0;
+  void split_bending_hessian();
+  // Scratch of evaluate(): all domain positions (fixed rows set once) and forces.
   mutable Points points_, forces_;
+  // The repulsion's candidate pairs and the positions they were found at
+  // (see energy.cpp); the energy does not depend on when they were found.
+  mutable std::vector<RepulsionPair> repulsion_pairs_;
+  mutable Points repulsion_anchor_;
+  double repulsion_skin_ = 0;   // 0: no vertex repels (all radii 0)
+  double repulsion_reach_ = 0;  // the largest patch radius plus the skin
+  void update_repulsion_pairs() const;
 };
 
 }  // namespace foldfill

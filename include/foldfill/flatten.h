@@ -23,9 +23,11 @@ struct Strip {
 };
 
 // Collects the strip of `loop`. Throws Error(NotADisk) with a reason when the
-// loop is not a disk boundary, or when the strip is not a topological annulus
-// (for instance it touches another boundary, or a loop vertex's faces do not
-// form one fan), since LSCM would then not give a meaningful hole outline.
+// loop is not a disk boundary, or when the strip is not a connected planar
+// surface with the loop as one boundary: an annulus, or a ring with islands
+// where the loop comes back within an edge of itself (refused, for instance:
+// it touches another boundary, a strip vertex's faces do not form one fan),
+// since LSCM would then not give a meaningful hole outline.
 // This form scans every face of the mesh once.
 Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::string& source = "mesh");
 // The same strip in time proportional to the strip's size, from the mesh's
@@ -47,8 +49,9 @@ struct Flattening {
 
 // Flattens the strip with LSCM, pinning loop vertex 0 at (0,0) and loop vertex
 // 1 at (L,0) with L their 3D distance, so that the scale is the true one.
-// Throws Error(FillFailed) when the result has flipped or degenerate triangles
-// or the hole polygon is not simple.
+// Throws Error(FillFailed) when the result has flipped or degenerate triangles,
+// or the hole polygon is not simple or runs clockwise (the loop is an outer
+// edge: the surface lies inside it).
 Flattening flatten_strip(const Strip& strip, const std::string& source = "mesh");
 
 // The hole polygon of a flattening: uv of loop vertices in loop order.

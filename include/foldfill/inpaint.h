@@ -34,7 +34,7 @@ struct FillOptions {
   std::vector<Obstacle> obstacles;  // in the mesh's units
   // When set, replaces energy.lambda, energy.repulsion and solver.step per hole.
   std::optional<PrototypeWeights> prototype;
-  bool keep_flat = false;           // keep the flat strip and patch in the report
+  bool keep_flat = false;  // keep the flat strip and patch in the report
   // Called per hole and iteration with (loop id, progress), from the threads
   // that fill the holes; false cancels the whole fill (see fill_holes).
   std::function<bool(int, const SolverProgress&)> progress;
@@ -64,11 +64,11 @@ struct HoleReport {
   double gaussian_mean_abs_final = 0, gaussian_variance_final = 0;
   double edge_length_rms_rel_after_arap = 0, edge_length_rms_rel_final = 0;
   int self_intersections = 0;
-  double repulsion = 0;            // the repulsion weight finally used (raised on intersections)
-  double flat_area = 0;            // area of the flat patch (mesh units)
-  double area_ratio_to_flat = 0;   // 3D patch area / flat patch area
-  double length_scale = 0;         // the hole's unit (mean loop edge length)
-  Mesh flat_strip, flat_patch;     // z = 0; only with FillOptions::keep_flat
+  double repulsion = 0;           // the repulsion weight finally used (raised on intersections)
+  double flat_area = 0;           // area of the flat patch (mesh units)
+  double area_ratio_to_flat = 0;  // 3D patch area / flat patch area
+  double length_scale = 0;        // the hole's unit (mean loop edge length)
+  Mesh flat_strip, flat_patch;    // z = 0; only with FillOptions::keep_flat
 };
 
 struct FillReport {
@@ -103,7 +103,7 @@ struct FillResult {
 // minimised then and the ones not started are left open with the reason
 // "cancelled", report.cancelled is set, and holes already finished stay
 // filled. A minimisation that diverges keeps its lowest-energy state, with
-// HoleReport::warning saying so.
+// HoleReport::warning saying so. Throws Error(Usage) for an id not in `loops`.
 FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options = {},
                       const std::string& source = "mesh");

@@ -54,12 +54,15 @@ std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
                                     const std::vector<Tri>& faces,
                                     const std::vector<std::array<int, 2>>& edges);
 
-// Integral of |mean curvature| over the surface `faces`, discretised per edge
-// as |e| |theta_e| / 2 over the edges shared by two of the faces (theta_e the
-// dihedral angle); edges on the border of `faces` do not count. A cylinder of
-// radius r gives area / (2 r).
-double integrated_abs_mean_curvature(const std::vector<Vec3>& positions,
-                                     const std::vector<Tri>& faces);
+// Mean |mean curvature| over the cells of `vertices` (each must be interior):
+// sum of |H_v| A_v over sum of A_v, with the cotan Laplacian (Meyer et al.
+// 2003) projected on the vertex normal, |H_v| A_v = |n_v . sum_j (cot a_ij +
+// cot b_ij) (x_j - x_i)| / 4, and A_v a third of the incident area. Little
+// biased by the triangulation (the dihedral-angle sum over edges is not: on
+// a cylinder it grows with edges across the rulings). A cylinder of radius r
+// gives 1 / (2 r). 0 for no vertices.
+double mean_abs_mean_curvature(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                               const std::vector<int>& vertices);
 
 struct TriangleQuality {
   double min_angle_deg = 0;      // smallest corner angle of all faces

@@ -16,8 +16,8 @@ struct Image {
 };
 
 struct Camera {
-  Vec3 target{};           // looked-at point
-  double radius = 1;       // half the visible extent
+  Vec3 target{};      // looked-at point
+  double radius = 1;  // half the visible extent
   double azimuth_deg = 30;
   double elevation_deg = 30;
 };
@@ -38,7 +38,8 @@ Image render(const Mesh& mesh, const Camera& camera, const RenderOptions& option
 // Images next to each other, left to right (heights must match).
 Image side_by_side(const std::vector<Image>& images);
 
-// Throws Error(CannotWrite).
+// Writes an indexed PNG when the image has at most 256 colours, RGB
+// otherwise. Throws Error(CannotWrite).
 void write_png(const Image& image, const std::string& path);
 
 }  // namespace foldfill

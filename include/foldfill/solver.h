@@ -29,8 +29,9 @@ struct SolverOptions {
   double gradient_tol = 1e-6;         // ... or the RMS gradient per vertex falls below this
   double time_limit_seconds = 0;      // 0: none
   // Fast: no vertex moves further than this in one step (normalised units), so
-  // that the repulsion sees vertices approach before they pass each other.
-  double max_displacement = 0.1;
+  // that the repulsion sees vertices approach before they pass each other;
+  // each vertex's move is clipped on its own.
+  double max_displacement = 0.2;
   // Called every iteration; returning false cancels (the best state is kept).
   std::function<bool(const SolverProgress&)> progress;
 };
@@ -38,7 +39,7 @@ struct SolverOptions {
 struct SolverResult {
   std::vector<Vec3> positions;  // all domain vertices, normalised
   int iterations = 0;
-  std::string stop_reason;      // "converged", "max_iterations", "time_limit", "cancelled", "diverged"
+  std::string stop_reason;  // "converged", "max_iterations", "time_limit", "cancelled", "diverged"
 };
 
 // Minimises `energy` from `start` (all domain vertices), keeping free vertices

@@ -42,6 +42,13 @@ struct VertexFaces {
 VertexFaces build_vertex_faces(const std::vector<Tri>& faces, int vertex_count,
                                const std::string& source = "mesh");
 
+// The edges (v, w) with w > v, in increasing w, from the faces around v
+// (`vertex_faces` of `faces`), into `edges` (cleared first). Throws like
+// build_edge_topology. Calling it for v = 0, 1, ... gives every edge once, in
+// the order of EdgeTopology::edges, holding only one vertex's edges at a time.
+void edges_from_vertex(const std::vector<Tri>& faces, const VertexFaces& vertex_faces, int v,
+                       std::vector<Edge>& edges, const std::string& source = "mesh");
+
 // Builds the edges of `faces` over `vertex_count` vertices in O(F log F).
 // Throws Error(NonManifold) naming `source` when an edge has more than two
 // faces or two faces use it in the same direction (inconsistent orientation).

@@ -9,8 +9,9 @@
 namespace foldfill {
 
 struct TriangulateOptions {
-  // Interior edge length = mean boundary edge length / density. 1 matches the
-  // boundary; 2 gives about four times as many triangles.
+  // Interior edge length = length-weighted mean boundary edge length
+  // (sum l^2 / sum l) / density. 1 matches the boundary; 2 gives about four
+  // times as many triangles.
   double density = 1.0;
 };
 
