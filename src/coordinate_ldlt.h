@@ -36,28 +36,32 @@ class CoordinateLdlt {
     const int* row = lower.innerIndexPtr();
     const double* value = lower.valuePtr();
     double* y = work_.data();
+    // Scalars in registers: stores through y may alias value[], so the
+    // factor's entries are read once into locals.
     for (Eigen::Index j = 0; j < n; ++j) {  // L y = b, column by column
-      const double yj[3] = {y[3 * j], y[3 * j + 1], y[3 * j + 2]};
-      for (int p = start[j]; p < start[j + 1]; ++p) {
+      const double y0 = y[3 * j], y1 = y[3 * j + 1], y2 = y[3 * j + 2];
+      for (int p = start[j], end = start[j + 1]; p < end; ++p) {
+        const double l = value[p];
         double* yi = y + 3 * static_cast<Eigen::Index>(row[p]);
-        yi[0] -= value[p] * yj[0];
-        yi[1] -= value[p] * yj[1];
-        yi[2] -= value[p] * yj[2];
+        yi[0] -= l * y0;
+        yi[1] -= l * y1;
+        yi[2] -= l * y2;
       }
     }
     const auto& diagonal = ldlt_.vectorD();
     for (Eigen::Index j = 0; j < n; ++j) work_.row(j) /= diagonal[j];
     for (Eigen::Index j = n - 1; j >= 0; --j) {  // L^T y = D^-1 y, row by row of L^T
-      double sum[3] = {y[3 * j], y[3 * j + 1], y[3 * j + 2]};
-      for (int p = start[j]; p < start[j + 1]; ++p) {
+      double s0 = y[3 * j], s1 = y[3 * j + 1], s2 = y[3 * j + 2];
+      for (int p = start[j], end = start[j + 1]; p < end; ++p) {
+        const double l = value[p];
         const double* yi = y + 3 * static_cast<Eigen::Index>(row[p]);
-        sum[0] -= value[p] * yi[0];
-        sum[1] -= value[p] * yi[1];
-        sum[2] -= value[p] * yi[2];
+        s0 -= l * yi[0];
+        s1 -= l * yi[1];
+        s2 -= l * yi[2];
       }
-      y[3 * j] = sum[0];
-      y[3 * j + 1] = sum[1];
-      y[3 * j + 2] = sum[2];
+      y[3 * j] = s0;
+      y[3 * j + 1] = s1;
+      y[3 * j + 2] = s2;
     }
     for (Eigen::Index i = 0; i < n; ++i) solution.row(i) = work_.row(permutation[i]);
   }

@@ -193,11 +193,12 @@ double spring_energy(const std::vector<Spring>& springs, const Points& points, d
 
 // A uniform grid over the points for neighbour queries. Occupied cells live
 // in an open-addressing hash table; the points are regrouped by cell (in
-// increasing index order within a cell) so that a cell's candidates are
-// contiguous and queries are deterministic.
+// increasing index order within a cell), each with its radius, so that a
+// cell's candidates are contiguous and queries are deterministic.
 class SpatialGrid {
  public:
-  SpatialGrid(const Points& points, double cell_size) : inverse_cell_(1 / cell_size) {
+  SpatialGrid(const Points& points, const std::vector<double>& radius, double cell_size)
+      : inverse_cell_(1 / cell_size) {
     const int n = static_cast<int>(points.rows());
     int bits = 1;
     while ((size_t{1} << bits) < 2 * static_cast<size_t>(n)) ++bits;  // load <= 1/2
@@ -212,15 +213,17 @@ class SpatialGrid {
     int end = 0;  // slots get their range's end, then count down to its start
     for (Slot& slot : slots_) slot.start = end += slot.count;
     vertex_.resize(n);
-    position_.resize(3 * static_cast<size_t>(n));
+    position_.resize(4 * static_cast<size_t>(n));
     for (int v = n - 1; v >= 0; --v) {
       const int k = --slots_[slot_of[v]].start;
       vertex_[k] = v;
-      for (int a = 0; a < 3; ++a) position_[3 * static_cast<size_t>(k) + a] = points(v, a);
+      double* entry = &position_[4 * static_cast<size_t>(k)];
+      for (int a = 0; a < 3; ++a) entry[a] = points(v, a);
+      entry[3] = radius[v];
     }
   }
 
-  // Calls visit(j, position of j) for every point j that may lie within
+  // Calls visit(j, {x, y, z, radius} of j) for every point j that may lie within
   // `radius` of `p` (the points of every cell the cube around p meets), each
   // once, in a fixed order.
   template <typename Visit>
@@ -238,7 +241,7 @@ class SpatialGrid {
     // points far apart) scans every point instead: no slower, it cannot hang,
     // and it visits no point twice through keys that wrap around.
     if (cell_count > static_cast<double>(vertex_.size()) || wraps) {
-      for (size_t k = 0; k < vertex_.size(); ++k) visit(vertex_[k], &position_[3 * k]);
+      for (size_t k = 0; k < vertex_.size(); ++k) visit(vertex_[k], &position_[4 * k]);
       return;
     }
     for (int64_t x = low[0]; x <= high[0]; ++x)
@@ -247,7 +250,7 @@ class SpatialGrid {
           const Slot* slot = find(pack(x, y, z));
           if (!slot) continue;
           for (int k = slot->start; k < slot->start + slot->count; ++k) {
-            visit(vertex_[k], &position_[3 * static_cast<size_t>(k)]);
+            visit(vertex_[k], &position_[4 * static_cast<size_t>(k)]);
           }
         }
   }
@@ -293,7 +296,7 @@ class SpatialGrid {
   int shift_ = 63;
   std::vector<Slot> slots_;
   std::vector<int> vertex_;       // grouped by cell
-  std::vector<double> position_;  // xyz of vertex_, for contiguous candidate scans
+  std::vector<double> position_;  // x, y, z, radius of vertex_, for contiguous candidate scans
 };
 
 using RepulsionPair = FabricEnergy::RepulsionPair;
@@ -312,20 +315,17 @@ void build_repulsion_pairs(const Points& points, const std::vector<double>& radi
                            const VertexGraph& graph, double skin, double typical_reach,
                            std::vector<RepulsionPair>& pairs) {
   const int n = static_cast<int>(points.rows());
-  const SpatialGrid grid(points, 2 * typical_reach);  // a typical query meets <= 8 cells
+  const SpatialGrid grid(points, radius, 2 * typical_reach);  // a typical query meets <= 8 cells
   std::vector<RepulsionPair> found;
   for (int a = 0; a < n; ++a) {
-    const double pa[3] = {points(a, 0), points(a, 1), points(a, 2)};
-    grid.for_each_near(pa, radius[a] + skin, [&](int b, const double* pb) {
-      if (radius[b] > radius[a] || (radius[b] == radius[a] && b >= a)) return;  // from b
-      const int i = std::max(a, b), j = std::min(a, b);
-      if (i < fixed_count) return;  // both fixed
+    const double pa[3] = {points(a, 0), points(a, 1), points(a, 2)}, ra = radius[a];
+    grid.for_each_near(pa, ra + skin, [&](int b, const double* pb) {
       const double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
-      const double r = 0.5 * (radius[a] + radius[b]);
-      if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < (r + skin) * (r + skin) &&
-          !graph.adjacent(i, j)) {
-        found.push_back({i, j, r});
-      }
+      const double r = 0.5 * (ra + pb[3]);
+      if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < (r + skin) * (r + skin))) return;
+      if (pb[3] > ra || (pb[3] == ra && b >= a)) return;  // found from b
+      const int i = std::max(a, b), j = std::min(a, b);
+      if (i >= fixed_count && !graph.adjacent(i, j)) found.push_back({i, j, r});
     });
   }
   // Counting sort by i, then each i's few pairs by j.

@@ -15,7 +15,7 @@ enum class BendingModel { Quadratic, TwoRing };
 
 // Weights are for the normalised domain (unit = mean loop edge length).
 struct EnergyOptions {
-  double lambda = 0.03;  // bending weight relative to the isometric term
+  double lambda = 0.05;  // bending weight relative to the isometric term
   BendingModel bending = BendingModel::Quadratic;
   double repulsion = 1.0;             // kappa, relative to the isometric term
   double repulsion_radius = 1 / 1.3;  // r_i = shortest incident rest edge * this
