@@ -87,7 +87,11 @@ Image render(const Mesh& mesh, const Camera& camera, const RenderOptions& option
     if (std::abs(area) < 1e-12) continue;
     const Vec3 normal = normalized(cross(sub(mesh.positions[t[1]], mesh.positions[t[0]]),
                                          sub(mesh.positions[t[2]], mesh.positions[t[0]])));
-    const double shade = 0.25 + 0.75 * std::abs(dot(normal, light));
+    double lit = std::abs(dot(normal, light));
+    if (options.shade_levels > 1) {
+      lit = std::round(lit * (options.shade_levels - 1)) / (options.shade_levels - 1);
+    }
+    const double shade = 0.25 + 0.75 * lit;
     const bool highlighted = options.highlight_from >= 0 && f >= options.highlight_from;
     const double base[3] = {highlighted ? 240.0 : 200.0, highlighted ? 140.0 : 205.0,
                             highlighted ? 40.0 : 215.0};

@@ -36,7 +36,7 @@ double rms_relative_edge_error(const std::vector<Vec3>& positions,
 // samples (the vertices of the faces and the face centroids) of each surface
 // to the other surface's triangles (exact point-to-triangle distances through
 // an AABB tree). Degenerate triangles are not distance targets. Throws
-// Error(Usage) when either face list is empty.
+// Error(Usage) when either surface has no non-degenerate triangle.
 struct SurfaceDistance {
   double hausdorff = 0;  // largest sample distance, both directions
   double mean = 0;       // average of the two one-sided mean sample distances
@@ -71,7 +71,8 @@ struct TriangleQuality {
 TriangleQuality triangle_quality(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
 
 // The vertices at most `rings` edges away from `seeds` along the edges of
-// `faces`, seeds excluded, ascending. `vertex_count` bounds the indices.
+// `faces`, seeds excluded, ascending. Throws Error(Usage) for an index
+// outside [0, vertex_count).
 std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>& faces,
                                        const std::vector<int>& seeds, int rings);
 

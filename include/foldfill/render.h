@@ -30,6 +30,9 @@ struct RenderOptions {
   int width = 640, height = 480;
   int highlight_from = -1;  // faces with index >= this are drawn in orange (-1: none)
   bool wireframe = true;    // darken triangle edges
+  // > 0: the shading is rounded to this many levels, so that the picture has
+  // few colours and writes as a small indexed PNG (see write_png).
+  int shade_levels = 0;
 };
 
 // Orthographic, z-buffered, two-sided Lambert shading.
