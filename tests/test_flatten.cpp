@@ -22,24 +22,14 @@
 #include "foldfill/io.h"
 #include "foldfill/topology.h"
 #include "foldfill/triangulate.h"
+#include "test_geometry.h"
 #include "test_support.h"
 
 namespace foldfill {
 namespace {
 
-double twice_signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-double polygon_area(const std::vector<Vec2>& polygon) {
-  double twice = 0;
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const Vec2& a = polygon[k];
-    const Vec2& b = polygon[(k + 1) % polygon.size()];
-    twice += a[0] * b[1] - a[1] * b[0];
-  }
-  return twice / 2;
-}
+using testing::polygon_area;
+using testing::twice_signed_area;
 
 double distance3(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
@@ -317,19 +307,7 @@ TEST(FlattenStrip, RefusesAnOutlineThatCannotLieFlat) {
   // A collar whose inner ring (the hole) ripples up and down, so that it is
   // far longer than the outer ring: no flat annulus has such a hole.
   const int segments = 48;
-  const double pi = std::acos(-1.0);
-  Mesh collar;
-  for (int ring = 0; ring < 2; ++ring)
-    for (int k = 0; k < segments; ++k) {
-      const double angle = 2 * pi * k / segments, radius = ring == 0 ? 1.0 : 1.3;
-      const double height = ring == 0 ? 0.6 * std::sin(8 * angle) : 0;
-      collar.positions.push_back({radius * std::cos(angle), radius * std::sin(angle), height});
-    }
-  for (int k = 0; k < segments; ++k) {
-    const int a = k, b = (k + 1) % segments, c = segments + b, d = segments + a;
-    collar.faces.push_back({a, d, c});
-    collar.faces.push_back({a, c, b});
-  }
+  const Mesh collar = testing::rippled_collar(segments);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(collar, "collar");
   ASSERT_EQ(loops.size(), 2u);
   const BoundaryLoop& inner = loops[0].vertices[0] < segments ? loops[0] : loops[1];

@@ -11,6 +11,7 @@
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
 #include "foldfill/metrics.h"
+#include "test_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -262,24 +263,7 @@ TEST(InpaintLimits, NonFiniteWeightsAreRefusedNotACrash) {
 
 // ---- Refusals name the file and the loop ----------------------------------------
 
-// A collar whose inner ring ripples up and down, far longer than the outer
-// ring: no flat annulus has such a hole, its flattening crosses itself.
-Mesh rippled_collar() {
-  const int segments = 48;
-  Mesh collar;
-  for (int ring = 0; ring < 2; ++ring)
-    for (int k = 0; k < segments; ++k) {
-      const double angle = 2 * M_PI * k / segments, radius = ring == 0 ? 1.0 : 1.3;
-      const double height = ring == 0 ? 0.6 * std::sin(8 * angle) : 0;
-      collar.positions.push_back({radius * std::cos(angle), radius * std::sin(angle), height});
-    }
-  for (int k = 0; k < segments; ++k) {
-    const int a = k, b = (k + 1) % segments, c = segments + b, d = segments + a;
-    collar.faces.push_back({a, d, c});
-    collar.faces.push_back({a, c, b});
-  }
-  return collar;
-}
+using testing::rippled_collar;
 
 TEST(InpaintRefusals, AnUnknownLoopIdThrows) {
   const CutMesh cut = folded_sheet_with_hole();

@@ -11,6 +11,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/triangulate.h"
+#include "test_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -38,19 +39,8 @@ std::vector<Vec2> circle(int n, double radius) {
   return polygon;
 }
 
-double twice_signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-double polygon_area(const std::vector<Vec2>& polygon) {
-  double twice = 0;
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const Vec2& a = polygon[k];
-    const Vec2& b = polygon[(k + 1) % polygon.size()];
-    twice += a[0] * b[1] - a[1] * b[0];
-  }
-  return twice / 2;
-}
+using testing::polygon_area;
+using testing::twice_signed_area;
 
 // The properties every patch must have: the polygon's vertices bit for bit
 // first, counter-clockwise faces, a boundary made of exactly the polygon's
