@@ -34,12 +34,25 @@ std::string read_file(const std::string& path) {
 }
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {
+  write_file_atomically(path, [bytes](const ByteConsumer& write) { write(bytes); });
+}
+
+void write_file_atomically(const std::string& path,
+                           const std::function<void(const ByteConsumer&)>& produce) {
   const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
   bool written = false;
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (out) {
-      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      try {
+        produce([&out](std::string_view piece) {
+          out.write(piece.data(), static_cast<std::streamsize>(piece.size()));
+        });
+      } catch (...) {
+        out.close();
+        std::remove(temporary.c_str());
+        throw;
+      }
       out.close();  // a late error (disk full) shows up here, before the rename
       written = !out.fail();
     }

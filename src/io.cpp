@@ -134,21 +134,19 @@ ParsedMesh parse_format(std::string_view bytes, MeshFormat format, const std::st
   fail(ErrorKind::Internal, source, "unknown mesh format");
 }
 
-// Validates `mesh` (naming it `source` in errors) and returns its file bytes.
-std::string serialize_checked(const Mesh& mesh, MeshFormat format, const WriteOptions& options,
-                              const std::string& source) {
-  io_detail::validate_mesh(mesh, source);
+// Puts the file bytes of `mesh` (validated before) into `sink`.
+void serialize_into(const Mesh& mesh, MeshFormat format, const WriteOptions& options,
+                    io_detail::ByteSink& sink) {
   switch (format) {
     case MeshFormat::Obj:
-      return io_detail::serialize_obj(mesh);
+      return io_detail::serialize_obj(mesh, sink);
     case MeshFormat::Ply:
-      return io_detail::serialize_ply(mesh, options.binary);
+      return io_detail::serialize_ply(mesh, options.binary, sink);
     case MeshFormat::Off:
-      return io_detail::serialize_off(mesh);
+      return io_detail::serialize_off(mesh, sink);
     case MeshFormat::Stl:
-      return io_detail::serialize_stl(mesh, options.binary);
+      return io_detail::serialize_stl(mesh, options.binary, sink);
   }
-  fail(ErrorKind::Internal, source, "unknown mesh format");
 }
 
 }  // namespace
@@ -179,12 +177,23 @@ Mesh read_mesh(const std::string& path) {
   return parse_mesh(read_file(path), format, path);
 }
 
+// The file is written in chunks as it is produced: a 2M-triangle mesh's
+// 49 MiB PLY took 51 MiB of memory on top of the mesh when built whole first.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
-  write_file_atomically(path, serialize_checked(mesh, format_from_path(path), options, path));
+  const MeshFormat format = format_from_path(path);
+  io_detail::validate_mesh(mesh, path);
+  write_file_atomically(path, [&](const ByteConsumer& write) {
+    io_detail::ByteSink sink(write);
+    serialize_into(mesh, format, options, sink);
+    sink.finish();
+  });
 }
 
 std::string serialize_mesh(const Mesh& mesh, MeshFormat format, const WriteOptions& options) {
-  return serialize_checked(mesh, format, options, "mesh");
+  io_detail::validate_mesh(mesh, "mesh");
+  io_detail::ByteSink sink;
+  serialize_into(mesh, format, options, sink);
+  return sink.finish();
 }
 
 }  // namespace foldfill

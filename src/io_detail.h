@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -294,15 +295,53 @@ void append_numbers_line(std::string& out, const std::array<Number, N>& values) 
   out += '\n';
 }
 
+// Where a serializer puts its bytes: a string that is either kept whole
+// (serialize_mesh) or handed on in chunks of about kChunkBytes as it fills (a
+// file being written), so that writing a large mesh does not hold its whole
+// file in memory. Serializers append to bytes() and call record_done() after
+// each record (a vertex, a face).
+class ByteSink {
+ public:
+  using Consumer = std::function<void(std::string_view)>;
+  static constexpr size_t kChunkBytes = size_t{1} << 20;
+
+  ByteSink() = default;
+  explicit ByteSink(Consumer consumer) : consumer_(std::move(consumer)) {}
+
+  std::string& bytes() { return bytes_; }
+
+  // Reserves room for the whole output when it is kept whole.
+  void expect(size_t total_bytes) { bytes_.reserve(consumer_ ? kChunkBytes + 256 : total_bytes); }
+
+  void record_done() {
+    if (consumer_ && bytes_.size() >= kChunkBytes) hand_on();
+  }
+
+  // Hands on what is left; returns the whole output when it was kept whole.
+  std::string finish() {
+    if (consumer_) hand_on();
+    return std::move(bytes_);
+  }
+
+ private:
+  void hand_on() {
+    consumer_(bytes_);
+    bytes_.clear();
+  }
+
+  Consumer consumer_;
+  std::string bytes_;
+};
+
 // The formats (one file each). Parsers leave validation to the caller;
 // serializers expect a validated mesh.
 ParsedMesh parse_obj(std::string_view bytes, const std::string& source);
 ParsedMesh parse_ply(std::string_view bytes, const std::string& source);
 ParsedMesh parse_off(std::string_view bytes, const std::string& source);
 ParsedMesh parse_stl(std::string_view bytes, const std::string& source);
-std::string serialize_obj(const Mesh& mesh);
-std::string serialize_ply(const Mesh& mesh, bool binary);
-std::string serialize_off(const Mesh& mesh);
-std::string serialize_stl(const Mesh& mesh, bool binary);
+void serialize_obj(const Mesh& mesh, ByteSink& sink);
+void serialize_ply(const Mesh& mesh, bool binary, ByteSink& sink);
+void serialize_off(const Mesh& mesh, ByteSink& sink);
+void serialize_stl(const Mesh& mesh, bool binary, ByteSink& sink);
 
 }  // namespace foldfill::io_detail

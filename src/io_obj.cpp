@@ -121,20 +121,23 @@ ParsedMesh parse_obj(std::string_view bytes, const std::string& source) {
 
 // A face corner gets its texture coordinate / normal only when all three
 // corners of the face have one, since an OBJ face cannot mix corner forms.
-std::string serialize_obj(const Mesh& mesh) {
-  std::string out;
-  out.reserve(mesh.positions.size() * 64 + mesh.faces.size() * 32);
+void serialize_obj(const Mesh& mesh, ByteSink& sink) {
+  std::string& out = sink.bytes();
+  sink.expect(mesh.positions.size() * 64 + mesh.faces.size() * 32);
   for (const Vec3& p : mesh.positions) {
     out += "v ";
     append_numbers_line(out, p);
+    sink.record_done();
   }
   for (const Vec2& t : mesh.texcoords) {
     out += "vt ";
     append_numbers_line(out, t);
+    sink.record_done();
   }
   for (const Vec3& n : mesh.normals) {
     out += "vn ";
     append_numbers_line(out, n);
+    sink.record_done();
   }
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
     const bool with_texcoords = has_all(mesh.face_texcoords, f);
@@ -151,8 +154,8 @@ std::string serialize_obj(const Mesh& mesh) {
       }
     }
     out += '\n';
+    sink.record_done();
   }
-  return out;
 }
 
 }  // namespace foldfill::io_detail

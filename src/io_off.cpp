@@ -66,16 +66,20 @@ ParsedMesh parse_off(std::string_view bytes, const std::string& source) {
   return parsed;
 }
 
-std::string serialize_off(const Mesh& mesh) {
-  std::string out = "OFF\n";
-  out.reserve(mesh.positions.size() * 64 + mesh.faces.size() * 32);
+void serialize_off(const Mesh& mesh, ByteSink& sink) {
+  std::string& out = sink.bytes();
+  sink.expect(mesh.positions.size() * 64 + mesh.faces.size() * 32);
+  out += "OFF\n";
   append_numbers_line(out, std::array<size_t, 3>{mesh.positions.size(), mesh.faces.size(), 0});
-  for (const Vec3& p : mesh.positions) append_numbers_line(out, p);
+  for (const Vec3& p : mesh.positions) {
+    append_numbers_line(out, p);
+    sink.record_done();
+  }
   for (const Tri& face : mesh.faces) {
     out += "3 ";
     append_numbers_line(out, face);
+    sink.record_done();
   }
-  return out;
 }
 
 }  // namespace foldfill::io_detail

@@ -345,9 +345,9 @@ ParsedMesh parse_ply(std::string_view bytes, const std::string& source) {
 }
 
 // Positions as doubles so that they read back bit for bit.
-std::string serialize_ply(const Mesh& mesh, bool binary) {
-  std::string out;
-  out.reserve(256 + mesh.positions.size() * (binary ? 24 : 64) +
+void serialize_ply(const Mesh& mesh, bool binary, ByteSink& sink) {
+  std::string& out = sink.bytes();
+  sink.expect(256 + mesh.positions.size() * (binary ? 24 : 64) +
               mesh.faces.size() * (binary ? 13 : 32));
   append_header(out, mesh, binary);
   for (const Vec3& p : mesh.positions) {
@@ -356,6 +356,7 @@ std::string serialize_ply(const Mesh& mesh, bool binary) {
     } else {
       append_numbers_line(out, p);
     }
+    sink.record_done();
   }
   for (const Tri& face : mesh.faces) {
     if (binary) {
@@ -365,8 +366,8 @@ std::string serialize_ply(const Mesh& mesh, bool binary) {
       out += "3 ";
       append_numbers_line(out, face);
     }
+    sink.record_done();
   }
-  return out;
 }
 
 }  // namespace foldfill::io_detail

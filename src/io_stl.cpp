@@ -151,10 +151,11 @@ StlPoint to_float(const Vec3& p) {
   return {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
 }
 
-std::string serialize_binary(const Mesh& mesh) {
-  std::string out = "binary STL written by foldfill";  // must not start with "solid"
+void serialize_binary(const Mesh& mesh, ByteSink& sink) {
+  std::string& out = sink.bytes();
+  sink.expect(kHeaderBytes + 4 + kFacetBytes * mesh.faces.size());
+  out += "binary STL written by foldfill";  // must not start with "solid"
   out.resize(kHeaderBytes, ' ');
-  out.reserve(kHeaderBytes + 4 + kFacetBytes * mesh.faces.size());
   append_little_endian(out, static_cast<uint32_t>(mesh.faces.size()));
   for (const Tri& face : mesh.faces) {
     for (float coordinate : facet_normal(mesh, face)) append_little_endian(out, coordinate);
@@ -162,12 +163,13 @@ std::string serialize_binary(const Mesh& mesh) {
       for (float coordinate : to_float(mesh.positions[v])) append_little_endian(out, coordinate);
     }
     append_little_endian(out, uint16_t{0});
+    sink.record_done();
   }
-  return out;
 }
 
-std::string serialize_ascii(const Mesh& mesh) {
-  std::string out = "solid foldfill\n";
+void serialize_ascii(const Mesh& mesh, ByteSink& sink) {
+  std::string& out = sink.bytes();
+  out += "solid foldfill\n";
   for (const Tri& face : mesh.faces) {
     out += "  facet normal ";
     append_numbers_line(out, facet_normal(mesh, face));
@@ -177,9 +179,9 @@ std::string serialize_ascii(const Mesh& mesh) {
       append_numbers_line(out, to_float(mesh.positions[v]));
     }
     out += "    endloop\n  endfacet\n";
+    sink.record_done();
   }
   out += "endsolid foldfill\n";
-  return out;
 }
 
 }  // namespace
@@ -197,8 +199,12 @@ ParsedMesh parse_stl(std::string_view bytes, const std::string& source) {
            std::to_string(bytes.size()) + " bytes");
 }
 
-std::string serialize_stl(const Mesh& mesh, bool binary) {
-  return binary ? serialize_binary(mesh) : serialize_ascii(mesh);
+void serialize_stl(const Mesh& mesh, bool binary, ByteSink& sink) {
+  if (binary) {
+    serialize_binary(mesh, sink);
+  } else {
+    serialize_ascii(mesh, sink);
+  }
 }
 
 }  // namespace foldfill::io_detail

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "foldfill/error.h"
+#include "foldfill/examples.h"
+#include "foldfill/file.h"
 #include "foldfill/io.h"
 #include "test_support.h"
 
@@ -535,6 +537,40 @@ TEST(IoWrite, ReplacesTheFileAndLeavesNoTemporary) {
   ASSERT_EQ(1u, entries.size());
   EXPECT_EQ("mesh.off", entries[0].filename());
   expect_same_mesh(double_mesh(), read_mesh(path));
+}
+
+// Files are written in chunks of about 1 MiB as they are produced; the bytes
+// must be those of the whole-string serializer, whatever the format.
+TEST(IoWrite, LargeFilesWrittenInChunksEqualTheWholeSerialization) {
+  FoldedSheetOptions options;
+  options.edge_length = 0.02;  // 30k vertices, 60k faces: several chunks in every format
+  const Mesh mesh = make_folded_sheet(options).mesh;
+  const fs::path dir = testing::scratch_dir("io_write_chunks");
+  for (const FormatCase& format_case :
+       {FormatCase{"obj", true, false}, FormatCase{"ply", true, false},
+        FormatCase{"ply", false, false}, FormatCase{"off", true, false},
+        FormatCase{"stl", true, true}, FormatCase{"stl", false, true}}) {
+    const std::string path =
+        (dir /
+         (std::string("large_") + (format_case.binary ? "bin." : "ascii.") + format_case.extension))
+            .string();
+    write_mesh(mesh, path, {format_case.binary});
+    const std::string whole = serialize_mesh(mesh, format_from_path(path), {format_case.binary});
+    EXPECT_GT(whole.size(), size_t{3} << 19) << path;  // more than one chunk
+    EXPECT_EQ(whole, read_file(path)) << path;
+  }
+}
+
+TEST(IoWrite, AFailingProducerLeavesNoFile) {
+  const fs::path dir = testing::scratch_dir("io_write_producer_throws");
+  const std::string path = (dir / "partial.bin").string();
+  EXPECT_THROW(write_file_atomically(path,
+                                     [](const ByteConsumer& write) {
+                                       write(std::string(3 << 20, 'x'));
+                                       throw Error(ErrorKind::Internal, "stopped halfway");
+                                     }),
+               Error);
+  EXPECT_TRUE(fs::is_empty(dir));
 }
 
 TEST(IoWrite, RefusesAnInvalidMesh) {
