@@ -17,7 +17,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -457,8 +456,8 @@ CaseResult run_case(const Case& c, const fs::path& picture_dir) {
   }
   const FillResult ours = fill_holes(c.mesh, c.loops, {c.hole}, c.options, c.name);
   const HoleReport& hole = ours.report.holes.at(0);
-  std::fprintf(stderr, "%s: %d iterations, %s, repulsion %g\n", c.name.c_str(), hole.iterations,
-               hole.stop_reason.c_str(), hole.repulsion);
+  std::fprintf(stderr, "%s: %d iterations, %s, lambda %g, %.2f s\n", c.name.c_str(),
+               hole.iterations, hole.stop_reason.c_str(), hole.lambda, hole.seconds.total);
   add_fill("foldfill", c, ours, truth, result, panels);
   add_fill("Liepa", c, fill_holes_liepa(c.mesh, c.loops, {c.hole}, c.name), truth, result, panels);
   if (!picture_dir.empty()) {
@@ -531,6 +530,7 @@ struct Summary {
   int curvature_within = 0, curvature_cases = 0;  // patch mean |K| <= 1.5x the ring's
   int folds_above = 0;                            // cases with a fold ratio >= 0.7
   int self_intersections = 0;
+  double fill_seconds = 0;  // the fills' time, summed
   double median_curvature_ratio = kNaN;
   // Against the other method, cases with truth: closer to 1 (wins), or both
   // within kTie of 1 (ties: the difference means nothing).
@@ -556,6 +556,7 @@ Summary summarize(const std::vector<CaseResult>& results, const std::string& met
     if (!f) continue;
     ++s.filled;
     s.self_intersections += f->self_intersections;
+    s.fill_seconds += f->seconds;
     if (!std::isnan(curvature_ratio(*f, r))) {
       ++s.curvature_cases;
       s.curvature_within += curvature_ratio(*f, r) <= 1.5;
@@ -645,36 +646,53 @@ std::string summary_table(const std::vector<CaseResult>& results) {
   return out;
 }
 
+// The results of one group of cases.
+std::vector<CaseResult> group_of(const std::vector<CaseResult>& results, const std::string& group) {
+  std::vector<CaseResult> members;
+  std::copy_if(results.begin(), results.end(), std::back_inserter(members),
+               [&](const CaseResult& r) { return r.group == group; });
+  return members;
+}
+
 // The summary of each group of cases, then of all of them.
 std::string summaries(const std::vector<CaseResult>& results) {
   std::string out;
   for (const char* group : {"cloth", "sheet", "reference"}) {
-    std::vector<CaseResult> members;
-    std::copy_if(results.begin(), results.end(), std::back_inserter(members),
-                 [&](const CaseResult& r) { return r.group == group; });
+    const std::vector<CaseResult> members = group_of(results, group);
     if (members.empty() || members.size() == results.size()) continue;
     out += format("Summary of the %s cases:\n\n", group) + summary_table(members) + "\n";
   }
   return out + "Summary of all cases:\n\n" + summary_table(results) + "\n";
 }
 
-// One markdown row for the tuning tables.
-std::string summary_row(const std::vector<CaseResult>& results, const FillOptions& options,
-                        double seconds) {
-  const Summary s = summarize(results, "foldfill", "Liepa");
+// One row of the tuning table of docs/quality.md: the settings, the cloth's
+// headline figures, the sheets' fold ratios, the reference cases' |K| count,
+// then self-intersecting pairs and foldfill's fill seconds (summed over the
+// cases) per group. A group left out by --only shows as "–".
+std::string summary_row(const std::vector<CaseResult>& results, const FillOptions& options) {
+  const Summary cloth = summarize(group_of(results, "cloth"), "foldfill", "Liepa");
+  const Summary sheet = summarize(group_of(results, "sheet"), "foldfill", "Liepa");
+  const Summary reference = summarize(group_of(results, "reference"), "foldfill", "Liepa");
+  const int unfilled =
+      cloth.cases + sheet.cases + reference.cases - cloth.filled - sheet.filled - reference.filled;
+  auto per_group = [&](auto figure, const char* pattern) {
+    std::string out;
+    for (const Summary* s : {&cloth, &sheet, &reference})
+      out += (out.empty() ? "" : " / ") + (s->cases ? format(pattern, figure(*s)) : "–");
+    return out;
+  };
   return format(
-      "| %g | %g | %g | %g | %d / %d | %s | %s / %s / %s | %s | %d / %d | %d | %d / %d / %d | %d / "
-      "%d / "
-      "%d | %s / %s | %.0f |\n",
+      "| %g | %g | %g | %g | %s | %s / %s / %s | %s | %s / %s | %s / %s | %d / %d | %s | %s |%s\n",
       options.energy.lambda, options.arap.shrink, options.triangulate.density,
-      options.energy.repulsion, s.filled, s.cases,
-      number(100 * s.median_area_error, "%.1f %%").c_str(), number(s.min_fold, "%.2f").c_str(),
-      number(s.median_fold, "%.2f").c_str(), number(s.max_fold, "%.2f").c_str(),
-      number(s.median_curvature_ratio, "%.2f").c_str(), s.curvature_within, s.curvature_cases,
-      s.self_intersections, s.wins_area, s.ties_area, s.truth_cases - s.wins_area - s.ties_area,
-      s.wins_fold, s.ties_fold, s.truth_cases - s.wins_fold - s.ties_fold,
-      number(s.median_hausdorff, "%.2f").c_str(), number(s.median_mean_distance, "%.2f").c_str(),
-      seconds);
+      options.energy.repulsion, number(100 * cloth.median_area_error, "%.1f %%").c_str(),
+      number(cloth.min_fold, "%.2f").c_str(), number(cloth.median_fold, "%.2f").c_str(),
+      number(cloth.max_fold, "%.2f").c_str(), number(cloth.median_curvature_ratio, "%.2f").c_str(),
+      number(cloth.median_hausdorff, "%.2f").c_str(),
+      number(cloth.median_mean_distance, "%.2f").c_str(), number(sheet.min_fold, "%.2f").c_str(),
+      number(sheet.max_fold, "%.2f").c_str(), reference.curvature_within, reference.curvature_cases,
+      per_group([](const Summary& s) { return s.self_intersections; }, "%d").c_str(),
+      per_group([](const Summary& s) { return s.fill_seconds; }, "%.1f").c_str(),
+      unfilled > 0 ? format(" **%d not filled**", unfilled).c_str() : "");
 }
 
 std::string pictures(const std::vector<CaseResult>& results) {
@@ -775,7 +793,6 @@ int main(int argc, char** argv) {
     fs::create_directories(picture_dir);
   }
   std::vector<CaseResult> results;
-  const auto start = std::chrono::steady_clock::now();
   for (Case& c : cases) {
     const FillOptions case_options = c.options;
     c.options = settings.options;
@@ -788,10 +805,8 @@ int main(int argc, char** argv) {
       results.push_back(failure);
     }
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (settings.summary_only) {
-    std::printf("%s", summary_row(results, settings.options, seconds).c_str());
+    std::printf("%s", summary_row(results, settings.options).c_str());
     return 0;
   }
   const std::string generated = table(results) + "\n" + summaries(results) + pictures(results);

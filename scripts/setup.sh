@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev libboost-dev
-          libpng-dev libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev)
+          libpng-dev libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
+          libsuitesparse-dev libopenblas0-serial)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")

@@ -20,7 +20,7 @@
 #include <optional>
 #include <string>
 
-#include "coordinate_ldlt.h"
+#include "coordinate_cholesky.h"
 #include "foldfill/error.h"
 
 namespace foldfill {
@@ -40,7 +40,7 @@ struct Neighbourhoods {
   std::vector<Eigen::Vector2d> rest_edge;  // rest shape is planar: z = 0
 };
 
-using Points = CoordinateLdlt::Coordinates;
+using Points = CoordinateCholesky<double>::Coordinates;
 using Frame = Eigen::Matrix<double, 3, 2>;  // the first two columns of a rotation
 
 void check_domain(const EmbedDomain& domain) {
@@ -182,7 +182,7 @@ void fit_rotations(const Neighbourhoods& hood, const Points& x, std::vector<Fram
 // The free-free block of the cotan Laplacian, factored, and per free vertex
 // the constant right-hand side contributed by its fixed neighbours.
 struct GlobalSystem {
-  std::optional<CoordinateLdlt> factor;
+  std::optional<CoordinateCholesky<double>> factor;
   Points fixed_rhs;
 };
 
@@ -208,7 +208,7 @@ void build_global_system(const EmbedDomain& domain, const Neighbourhoods& hood,
   }
   Eigen::SparseMatrix<double> laplacian(free_count, free_count);
   laplacian.setFromTriplets(entries.begin(), entries.end());
-  system.factor.emplace(laplacian,
+  system.factor.emplace(laplacian, OrderingEffort::Quick,
                         "arap: the patch has free vertices not connected to the fixed strip");
 }
 

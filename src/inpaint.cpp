@@ -14,6 +14,7 @@
 #include "foldfill/error.h"
 #include "foldfill/flatten.h"
 #include "foldfill/metrics.h"
+#include "foldfill/multilevel.h"
 #include "foldfill/topology.h"
 
 namespace foldfill {
@@ -21,7 +22,15 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kRepulsionRetries = 2;
+// Retries of a self-intersecting patch (see minimise_patch): the bending
+// weight grows kStiffening times per step, to at least kSmallestStiffenedLambda
+// (so that a weight of 0 grows too). The reference contour example untangles
+// from about 0.1 on, but where it does is chaotic: the reference curtain with
+// c 0.3, repulsion 3 and lambda 1e-4 still intersects at 1e-4 * 10^3 and not
+// at 1 (docs/quality.md, "Tuning the defaults"). Four steps reach 1 from 1e-4.
+constexpr int kStiffeningSteps = 4;
+constexpr double kStiffening = 10;
+constexpr double kSmallestStiffenedLambda = 1e-3;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -109,38 +118,80 @@ void throw_if_cancelled(const FillContext& context, const std::string& where) {
 struct Minimised {
   std::optional<FabricEnergy> energy;
   SolverResult solved;
+  int self_intersections = 0;
 };
 
-// Minimises the fabric energy from the ARAP state. Vertex repulsion prevents
-// most self-intersections, but a fold under pressure can slip through between
-// vertices: when the result intersects itself, minimise again from the ARAP
-// state with ten times the repulsion, while the time limit allows.
+// One minimisation from `start`, within what is left of the time limit
+// (`deadline_seconds` after `start_time`; 0: none).
+Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& start,
+                        const EnergyOptions& energy_options, SolverOptions solver,
+                        const std::vector<Obstacle>& obstacles, Clock::time_point start_time,
+                        double deadline_seconds, HoleReport& report) {
+  if (deadline_seconds > 0)
+    solver.time_limit_seconds = std::max(deadline_seconds - seconds_since(start_time), 1e-9);
+  Minimised result;
+  result.energy.emplace(domain, energy_options);
+  result.solved = minimize_energy(*result.energy, obstacles, start, solver);
+  report.iterations += result.solved.iterations;
+  result.self_intersections =
+      count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
+  return result;
+}
+
+// Minimises the fabric energy from `initial`. Vertex repulsion prevents most
+// self-intersections, but at a small bending weight a large patch can crumple
+// so fast that a fold slips through between vertices, and more repulsion does
+// not stop that. So when the result intersects itself, minimise again from
+// `initial` with kStiffening times the bending weight, up to kStiffeningSteps
+// times, until a result comes out clean; the retries also use at least the
+// default repulsion (with the prototype's 0.1, the reference curtain comes out
+// clean only at 100 times its bending weight, and tangles again when relaxed
+// back). A clean stiffer result is then
+// relaxed: minimised again from there with the bending weight asked for. It
+// starts untangled, and the repulsion keeps it so while it only has to find
+// its finer folds; if it intersects (or diverges) all the same, the stiffer
+// result is kept. report.lambda says which bending weight the patch finally
+// has, report.stiffened_retries how many stiffer minimisations it took. The
+// time limit covers them all.
 Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& initial,
-                         EnergyOptions energy_options, SolverOptions solver,
+                         const EnergyOptions& energy_options, const SolverOptions& solver,
                          const std::vector<Obstacle>& obstacles, HoleReport& report) {
   const auto start = Clock::now();
-  const double time_limit = solver.time_limit_seconds;
-  Minimised result;
-  for (int attempt = 0;; ++attempt) {
-    if (time_limit > 0) {
-      const double remaining = time_limit - seconds_since(start);
-      if (attempt > 0 && remaining <= 0) break;
-      solver.time_limit_seconds = remaining;
-    }
-    result.energy.emplace(domain, energy_options);
-    result.solved = minimize_energy(*result.energy, obstacles, initial, solver);
-    report.iterations += result.solved.iterations;
-    report.repulsion = energy_options.repulsion;
-    report.self_intersections =
-        count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
-    if (report.self_intersections == 0 || attempt == kRepulsionRetries ||
-        result.solved.stop_reason == "cancelled") {
-      break;
-    }
-    energy_options.repulsion = std::max(10 * energy_options.repulsion, 1.0);
+  const double deadline = solver.time_limit_seconds;
+  const auto out_of_time = [&] { return deadline > 0 && seconds_since(start) >= deadline; };
+  const auto finish = [&](Minimised result, double lambda, double repulsion) {
+    report.lambda = lambda;
+    report.repulsion = repulsion;
+    report.self_intersections = result.self_intersections;
+    report.stop_reason = result.solved.stop_reason;
+    return result;
+  };
+  const auto minimise = [&](const std::vector<Vec3>& from, double lambda, double repulsion) {
+    EnergyOptions weights = energy_options;
+    weights.lambda = lambda;
+    weights.repulsion = repulsion;
+    return minimise_once(domain, from, weights, solver, obstacles, start, deadline, report);
+  };
+  const auto cancelled = [](const Minimised& m) { return m.solved.stop_reason == "cancelled"; };
+
+  Minimised result = minimise(initial, energy_options.lambda, energy_options.repulsion);
+  double lambda = energy_options.lambda, repulsion = energy_options.repulsion;
+  while (result.self_intersections > 0 && report.stiffened_retries < kStiffeningSteps &&
+         !cancelled(result) && !out_of_time()) {
+    lambda = std::max(lambda * kStiffening, kSmallestStiffenedLambda);
+    repulsion = std::max(repulsion, EnergyOptions{}.repulsion);
+    result = minimise(initial, lambda, repulsion);
+    ++report.stiffened_retries;
   }
-  report.stop_reason = result.solved.stop_reason;
-  return result;
+  if (report.stiffened_retries == 0 || result.self_intersections > 0 || cancelled(result) ||
+      out_of_time())
+    return finish(std::move(result), lambda, repulsion);
+  Minimised relaxed = minimise(result.solved.positions, energy_options.lambda, repulsion);
+  const bool relaxed_is_better =
+      relaxed.self_intersections == 0 && relaxed.solved.stop_reason != "diverged";
+  if (relaxed_is_better || cancelled(relaxed))
+    return finish(std::move(relaxed), energy_options.lambda, repulsion);
+  return finish(std::move(result), lambda, repulsion);
 }
 
 bool all_finite(const std::vector<Vec3>& positions) {
@@ -190,12 +241,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
   throw_if_cancelled(context, where);
   stage = Clock::now();
   const EmbedDomain domain = make_embed_domain(strip, flat, patch);
-  const std::vector<Vec3> initial = arap_embed(domain, options.arap);
-  report.seconds.arap = seconds_since(stage);
   report.length_scale = domain.length_scale;
-
-  throw_if_cancelled(context, where);
-  stage = Clock::now();
   EnergyOptions energy_options = options.energy;
   SolverOptions solver = options.solver;
   if (options.prototype)
@@ -212,8 +258,33 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
       return false;
     };
   }
+  // The time limit covers every level: each gets what the coarser ones left.
+  const auto minimisation_start = Clock::now();
+  const auto solver_for_level = [&] {
+    SolverOptions level = solver;
+    if (level.time_limit_seconds > 0)
+      level.time_limit_seconds =
+          std::max(solver.time_limit_seconds - seconds_since(minimisation_start), 1e-9);
+    return level;
+  };
+  const auto minimise_coarse_level = [&](const EmbedDomain& level, const std::vector<Vec3>& from) {
+    HoleReport level_report;  // the hole's report is the fine level's
+    SolverResult solved =
+        minimise_patch(level, from, energy_options, solver_for_level(), obstacles, level_report)
+            .solved;
+    if (solved.stop_reason == "cancelled")
+      throw Error(ErrorKind::FillFailed, where + ": cancelled");
+    return std::move(solved.positions);
+  };
+  const std::vector<Vec3> initial =
+      multilevel_start(strip, flat, options.triangulate, domain, options.arap, options.multilevel,
+                       minimise_coarse_level);
+  report.seconds.arap = seconds_since(stage);
+
+  throw_if_cancelled(context, where);
+  stage = Clock::now();
   const Minimised minimised =
-      minimise_patch(domain, initial, energy_options, solver, obstacles, report);
+      minimise_patch(domain, initial, energy_options, solver_for_level(), obstacles, report);
   const SolverResult& solved = minimised.solved;
   report.seconds.optimize = seconds_since(stage);
   if (solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, where + ": cancelled");
@@ -299,7 +370,9 @@ std::vector<HolePatch> fill_patches(const FillContext& context,
                                         " (the mesh has " + std::to_string(loops.size()) +
                                         " loops)");
   std::vector<HolePatch> patches(fill_ids.size());
-#pragma omp parallel for schedule(dynamic, 1)
+  // One hole: no parallel region, whose idle threads would only wait (and
+  // spin, with libgomp's default wait policy) for it.
+#pragma omp parallel for schedule(dynamic, 1) if (fill_ids.size() > 1)
   for (int h = 0; h < static_cast<int>(fill_ids.size()); ++h) {
     const BoundaryLoop& loop = loops[fill_ids[h]];
     try {

@@ -59,6 +59,8 @@ nlohmann::json to_json(const HoleReport& hole) {
         {"final", hole.edge_length_rms_rel_final}}},
       {"self_intersections", hole.self_intersections},
       {"repulsion", hole.repulsion},
+      {"lambda", hole.lambda},
+      {"stiffened_retries", hole.stiffened_retries},
       {"flat_area", hole.flat_area},
       {"area_ratio_to_flat", hole.area_ratio_to_flat},
       {"length_scale", hole.length_scale},

@@ -5,8 +5,9 @@
 //   then projected outside the obstacles (section 3.4).
 // - Fast: L-BFGS (Nocedal & Wright, algorithm 7.4) with initial inverse
 //   Hessian gamma * P^-1. P = L + lambda * H_B + eps I is constant and
-//   factored once: L is the unit-weight Laplacian of the spring graph over the
-//   free vertices (the global matrix of projective dynamics, Bouaziz et al.
+//   factored once (CHOLMOD, coordinate_cholesky.h; the factorisation counts
+//   against the time limit): L is the unit-weight Laplacian of the spring
+//   graph over the free vertices (the global matrix of projective dynamics, Bouaziz et al.
 //   2014, used as an L-BFGS preconditioner by Liu et al. 2017, "Quasi-Newton
 //   methods for real-time simulation of hyperelastic materials"), H_B the
 //   constant bending Hessian (left out on very large patches, see
@@ -40,7 +41,16 @@
 // reaches 2.38. A preconditioned step can be wrong near a contact (the
 // projection is not in P's metric), so when both the L-BFGS and the P^-1
 // directions fail, a plain projected gradient step is tried before declaring
-// convergence.
+// convergence. Vertices pressed against an obstacle (the parts of the
+// gradient removed above) move only along its tangent plane: the normal part
+// of their move is removed, outward as well as inward. With only the inward
+// part stopped, the outward parts (lift-offs the coupling through P^-1 asks
+// for, which the pressing gradient makes uphill) defeated both the L-BFGS and
+// the P^-1 directions near contacts on almost every iteration, leaving the
+// plain projected gradient step: sim2 took 8485 iterations instead of 1878
+// now (same energy within 2e-6), and sim1 with the default weights (the
+// patch lying on the sphere) crawled to the iteration cap (47658 iterations
+// over its retries, 16 s) instead of converging in 2110 (0.6 s).
 #include "foldfill/solver.h"
 
 #include <algorithm>
@@ -51,14 +61,19 @@
 #include <string>
 #include <vector>
 
-#include "coordinate_ldlt.h"
+#include "coordinate_cholesky.h"
 #include "foldfill/error.h"
 
 namespace foldfill {
 namespace {
 
 using Eigen::VectorXd;
-using Coordinates = CoordinateLdlt::Coordinates;
+// P^-1 only preconditions, so its factor is kept in single precision: a
+// solve then streams half the bytes (25% less time at 120k vertices), and
+// the operator applied is still symmetric positive definite (the exact
+// inverse of L~ L~^T for the rounded factor L~).
+using PreconditionerFactor = CoordinateCholesky<float>;
+using Coordinates = PreconditionerFactor::Coordinates;
 
 constexpr int kStallIterations = 10;       // consecutive small relative changes to converge
 constexpr double kDivergenceFactor = 1e3;  // energy above this times the start's: diverged
@@ -143,13 +158,20 @@ void stop_at_obstacles(const std::vector<Obstacle>& obstacles, const VectorXd& x
   }
 }
 
+// A vertex pressed against an obstacle: its index in the variables (x, y, z
+// at 3 * vertex) and the obstacle's outward normal there.
+struct Contact {
+  Eigen::Index offset;
+  Eigen::Vector3d normal;
+};
+
 // The gradient without the parts that press touching vertices into the
 // obstacles (the reduced gradient of projected methods): what L-BFGS models.
-// Returns whether some part was removed.
-bool reduce_gradient(const std::vector<Obstacle>& obstacles, const VectorXd& x,
-                     const VectorXd& gradient, VectorXd& reduced) {
+// `contacts` receives the vertices whose part was removed.
+void reduce_gradient(const std::vector<Obstacle>& obstacles, const VectorXd& x,
+                     const VectorXd& gradient, VectorXd& reduced, std::vector<Contact>& contacts) {
   reduced = gradient;
-  bool pressed = false;
+  contacts.clear();
   for (Eigen::Index v = 0; v + 2 < x.size(); v += 3) {
     const Vec3 p{x[v], x[v + 1], x[v + 2]};
     for (const Obstacle& obstacle : obstacles) {
@@ -158,11 +180,19 @@ bool reduce_gradient(const std::vector<Obstacle>& obstacles, const VectorXd& x,
       const double pressing = normal.dot(reduced.segment<3>(v));  // > 0: -gradient points in
       if (pressing > 0) {
         reduced.segment<3>(v) -= pressing * normal;
-        pressed = true;
+        contacts.push_back({v, normal});
       }
     }
   }
-  return pressed;
+}
+
+// Keeps pressed vertices on their obstacle's tangent plane: the normal part
+// of their move is removed, outward as well as inward.
+void slide_along_contacts(const std::vector<Contact>& contacts, VectorXd& motion) {
+  for (const Contact& contact : contacts) {
+    auto move = motion.segment<3>(contact.offset);
+    move -= contact.normal.dot(move) * contact.normal;
+  }
 }
 
 // One step of a method: replaces `current` by the next iterate, or returns
@@ -217,9 +247,11 @@ Eigen::SparseMatrix<double> preconditioner_matrix(const FabricEnergy& energy) {
   add_spring_laplacian(energy.springs(), fixed, 1.0, entries);
   add_spring_laplacian(energy.two_ring_springs(), fixed, lambda, entries);
   // The bending block makes the factor denser (a two-ring stencil): above
-  // this size its cost outgrows the iterations it saves (measured on folded
-  // sheets: 336 instead of 436 iterations and 15% less time at 22k free
-  // vertices; 397 instead of 466 iterations but 60% more time at 75k).
+  // this size the dearer solves outweigh the iterations it saves (measured
+  // on folded sheets: 336 instead of 436 iterations and 15% less time at 22k
+  // free vertices; at 120k, with the supernodal factor, whose factorisation
+  // is now cheap either way, 447 instead of 545 iterations but 75% more time
+  // per iteration: its factor holds 106 instead of 42 entries per vertex).
   if (free_count <= kLargestBendingPreconditioner) {
     const Eigen::SparseMatrix<double>& bending = energy.bending_hessian();
     for (int col = fixed; col < bending.outerSize(); ++col)
@@ -253,11 +285,11 @@ class Lbfgs final : public Stepper {
       : energy_(energy),
         obstacles_(obstacles),
         max_displacement_(max_displacement),
-        factor_(preconditioner_matrix(energy), "solver: the preconditioner could not be factored") {
-  }
+        factor_(preconditioner_matrix(energy), OrderingEffort::Thorough,
+                "solver: the preconditioner could not be factored") {}
 
   bool advance(Iterate& current) override {
-    if (!started_) pressed_ = prepare(current, reduced_, preconditioned_);
+    if (!started_) pressed_ = prepare(current, reduced_, preconditioned_, contacts_);
     started_ = true;
     search_direction();
     bool found = line_search(current);
@@ -273,11 +305,12 @@ class Lbfgs final : public Stepper {
       found = line_search(current);
     }
     if (!found) return false;
-    const bool next_pressed = prepare(next_, next_reduced_, next_preconditioned_);
+    const bool next_pressed = prepare(next_, next_reduced_, next_preconditioned_, next_contacts_);
     remember(current, pressed_ || next_pressed);
     std::swap(current, next_);
     std::swap(reduced_, next_reduced_);
     std::swap(preconditioned_, next_preconditioned_);
+    std::swap(contacts_, next_contacts_);
     pressed_ = next_pressed;
     return true;
   }
@@ -297,10 +330,11 @@ class Lbfgs final : public Stepper {
 
   // The reduced gradient of `it` and P^-1 of it; returns whether it differs
   // from the gradient.
-  bool prepare(const Iterate& it, VectorXd& reduced, VectorXd& preconditioned) const {
-    const bool pressed = reduce_gradient(obstacles_, it.x, it.gradient, reduced);
+  bool prepare(const Iterate& it, VectorXd& reduced, VectorXd& preconditioned,
+               std::vector<Contact>& contacts) const {
+    reduce_gradient(obstacles_, it.x, it.gradient, reduced, contacts);
     solve(reduced, preconditioned);
-    return pressed;
+    return !contacts.empty();
   }
 
   // direction_ = -H g (g the reduced gradient) by the two-loop recursion with
@@ -331,10 +365,11 @@ class Lbfgs final : public Stepper {
     }
   }
 
-  // step_ = direction_ with each vertex's move clipped to the maximum
-  // displacement and stopped at the obstacles; false when that is no descent
-  // direction.
+  // step_ = direction_ slid along the contacts, each vertex's move clipped to
+  // the maximum displacement and stopped at the obstacles; false when that is
+  // no descent direction.
   bool make_step(const Iterate& current) {
+    slide_along_contacts(contacts_, direction_);
     if (!(current.gradient.dot(direction_) < 0)) return false;
     step_ = direction_;
     clip_per_vertex(step_, max_displacement_);
@@ -398,7 +433,7 @@ class Lbfgs final : public Stepper {
   const FabricEnergy& energy_;
   const std::vector<Obstacle>& obstacles_;
   double max_displacement_;
-  CoordinateLdlt factor_;
+  PreconditionerFactor factor_;
   std::deque<CurvaturePair> pairs_;  // oldest first
   double gamma_ =
       1;  // (y . s) / (y . P^-1 y) of the newest pair: P^-1 scaled to the curvature seen
@@ -406,6 +441,7 @@ class Lbfgs final : public Stepper {
   bool pressed_ = false;  // the current reduced gradient differs from the gradient
   // The reduced gradient and P^-1 of it at the current and the next iterate.
   VectorXd reduced_, next_reduced_, preconditioned_, next_preconditioned_;
+  std::vector<Contact> contacts_, next_contacts_;  // the pressed vertices there
   VectorXd q_, direction_, step_, s_, y_;
   std::vector<double> alpha_;
   Iterate next_;
@@ -425,9 +461,10 @@ void check_inputs(const FabricEnergy& energy, const std::vector<Vec3>& start,
 // Runs `stepper` under the shared stopping rules and returns the lowest-energy
 // iterate seen (the last one, unless gradient descent went up). The progress
 // callback's gradient_norm is the RMS per free vertex, the gradient_tol measure.
+// The time limit counts from `started`, so that it covers the set-up (the
+// preconditioner's factorisation) too.
 SolverResult run(const FabricEnergy& energy, Stepper& stepper, Iterate& current,
-                 const SolverOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
+                 const SolverOptions& options, std::chrono::steady_clock::time_point started) {
   const double divergence_limit = kDivergenceFactor * current.energy;
   VectorXd best_x = current.x;
   double best_energy = current.energy;
@@ -468,6 +505,7 @@ SolverResult run(const FabricEnergy& energy, Stepper& stepper, Iterate& current,
 
 SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles,
                              const std::vector<Vec3>& start, const SolverOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
   check_inputs(energy, start, options);
   Iterate first;
   first.x = energy.variables(start);
@@ -479,10 +517,10 @@ SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obsta
 
   if (options.kind == SolverKind::GradientDescent) {
     GradientDescent stepper(energy, obstacles, options.step);
-    return run(energy, stepper, first, options);
+    return run(energy, stepper, first, options, started);
   }
   Lbfgs stepper(energy, obstacles, options.max_displacement);
-  return run(energy, stepper, first, options);
+  return run(energy, stepper, first, options, started);
 }
 
 }  // namespace foldfill

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -280,6 +281,12 @@ std::vector<Vec2> interior_lattice(const std::vector<Vec2>& polygon, double spac
   return points;
 }
 
+// Each face from its smallest vertex, the faces sorted.
+void sort_canonically(std::vector<Tri>& faces) {
+  for (Tri& f : faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+  std::sort(faces.begin(), faces.end());
+}
+
 // The constrained Delaunay triangulation of polygon + interior points
 // (uv[0, boundary_count) is the polygon), faces inside the polygon only,
 // counter-clockwise, in a canonical order.
@@ -323,8 +330,83 @@ std::vector<Tri> constrained_delaunay(const std::vector<Vec2>& uv, int boundary_
       if (!face->is_constrained(i) && !face->neighbor(i)->info())
         stack.push_back(face->neighbor(i));
   }
-  for (Tri& f : faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-  std::sort(faces.begin(), faces.end());
+  sort_canonically(faces);
+  return faces;
+}
+
+// Across which face each edge of each face lies: neighbour[3 f + k] is the
+// face across the edge opposite corner k of face f, -1 on the polygon.
+std::vector<int> face_neighbours(const std::vector<Tri>& faces) {
+  std::vector<std::pair<std::uint64_t, int>> edges;  // (edge key, 3 f + k)
+  edges.reserve(3 * faces.size());
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto [a, b] = std::minmax(faces[f][(k + 1) % 3], faces[f][(k + 2) % 3]);
+      edges.emplace_back(static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint32_t>(b),
+                         3 * f + k);
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<int> neighbour(3 * faces.size(), -1);
+  for (size_t e = 0; e + 1 < edges.size(); ++e)
+    if (edges[e].first == edges[e + 1].first) {
+      neighbour[edges[e].second] = edges[e + 1].second / 3;
+      neighbour[edges[e + 1].second] = edges[e].second / 3;
+    }
+  return neighbour;
+}
+
+// The constrained Delaunay triangulation of the points of a triangulation
+// (counter-clockwise `faces` inside the polygon) by Lawson's edge flips, in a
+// canonical order. After a smoothing round, which keeps every triangle
+// counter-clockwise, a few edges need flipping: much cheaper than a new
+// triangulation, and the same triangulation (exact predicates; it is unique
+// unless four points lie exactly on an empty circle).
+std::vector<Tri> flip_to_delaunay(const std::vector<Vec2>& uv, std::vector<Tri> faces) {
+  const auto in_circle = Kernel().side_of_oriented_circle_2_object();
+  const auto point = [&](int v) { return Point(uv[v][0], uv[v][1]); };
+  std::vector<int> neighbour = face_neighbours(faces);
+  // The corner of face g opposite its edge shared with face f.
+  const auto corner_facing = [&](int g, int f) {
+    for (int m = 0; m < 3; ++m)
+      if (neighbour[3 * g + m] == f) return m;
+    throw Error(ErrorKind::Internal, std::string(kSource) + ": broken face adjacency");
+  };
+  const auto replace_neighbour = [&](int face, int from, int to) {
+    if (face >= 0) neighbour[3 * face + corner_facing(face, from)] = to;
+  };
+  std::vector<int> pending(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) pending[f] = static_cast<int>(f);
+  while (!pending.empty()) {
+    const int f = pending.back();
+    pending.pop_back();
+    for (int k = 0; k < 3; ++k) {
+      const int g = neighbour[3 * f + k];
+      if (g < 0) continue;
+      const int m = corner_facing(g, f);
+      // f = (a, b, c) from corner k, g = (d, c, b) from corner m.
+      const int a = faces[f][k], b = faces[f][(k + 1) % 3], c = faces[f][(k + 2) % 3];
+      const int d = faces[g][m];
+      if (in_circle(point(a), point(b), point(c), point(d)) != CGAL::ON_POSITIVE_SIDE) continue;
+      const int across_ca = neighbour[3 * f + (k + 1) % 3],
+                across_ab = neighbour[3 * f + (k + 2) % 3];
+      const int across_bd = neighbour[3 * g + (m + 1) % 3],
+                across_dc = neighbour[3 * g + (m + 2) % 3];
+      faces[f] = {a, b, d};
+      faces[g] = {a, d, c};
+      neighbour[3 * f] = across_bd;
+      neighbour[3 * f + 1] = g;
+      neighbour[3 * f + 2] = across_ab;
+      neighbour[3 * g] = across_dc;
+      neighbour[3 * g + 1] = across_ca;
+      neighbour[3 * g + 2] = f;
+      replace_neighbour(across_bd, g, f);
+      replace_neighbour(across_ca, f, g);
+      pending.push_back(f);
+      pending.push_back(g);
+      break;
+    }
+  }
+  sort_canonically(faces);
   return faces;
 }
 
@@ -446,7 +528,7 @@ FlatPatch triangulate_hole(const std::vector<Vec2>& polygon, const TriangulateOp
   if (!interior.empty())
     for (int round = 0; round < kSmoothingRounds; ++round) {
       smooth_interior(patch.uv, patch.faces, patch.boundary_count, spacing, keep_out);
-      patch.faces = constrained_delaunay(patch.uv, patch.boundary_count);
+      patch.faces = flip_to_delaunay(patch.uv, std::move(patch.faces));
     }
   measure_quality(patch);
   return patch;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
 
 #include "foldfill/arap.h"
 #include "foldfill/error.h"
@@ -157,6 +158,20 @@ TEST(Arap, RejectsInconsistentDomains) {
   EXPECT_THROW(arap_embed(domain), Error);
   domain = lattice_domain(6, 6, rigid_motion);
   EXPECT_THROW(arap_embed(domain, {0.0, 30}), Error);
+}
+
+// A free vertex in no face is tied to nothing: the global step's matrix is
+// singular, which the factorisation reports.
+TEST(Arap, RefusesAFreeVertexNotConnectedToTheStrip) {
+  EmbedDomain domain = lattice_domain(6, 6, rigid_motion);
+  domain.rest_uv.push_back({100, 100});
+  try {
+    arap_embed(domain);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::FillFailed);
+    EXPECT_NE(std::string(e.what()).find("not connected"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -122,6 +122,72 @@ TEST(Inpaint, ResultDoesNotDependOnTheThreadCount) {
   EXPECT_EQ(serial.mesh.faces, parallel.mesh.faces);
 }
 
+// A band one triangle wide along a closed curve that waves up and down
+// `waves` times around the unit circle. Its hole's loop is much longer than
+// the circle, so the flat patch has more cloth than the frame spans: at a
+// small bending weight it crumples, as the reference contour example does.
+Mesh wavy_band(int segments, double amplitude, int waves) {
+  Mesh band;
+  const double width = 2 * M_PI / segments;
+  for (double radius : {1.0, 1.0 + width})
+    for (int k = 0; k < segments; ++k) {
+      const double angle = 2 * M_PI * k / segments;
+      band.positions.push_back({radius * std::cos(angle), radius * std::sin(angle),
+                                amplitude * std::sin(waves * angle)});
+    }
+  for (int k = 0; k < segments; ++k) {
+    const int a = k, b = (k + 1) % segments, c = segments + b, d = segments + a;
+    band.faces.push_back({a, d, c});
+    band.faces.push_back({a, c, b});
+  }
+  return band;
+}
+
+TEST(Inpaint, AStifferRetryUntanglesACrumpledPatchAndIsRelaxedBack) {
+  const Mesh band = wavy_band(48, 0.45, 5);
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(band);
+  const FillOptions options;
+  const FillResult result = fill_holes(band, loops, {0}, options);
+  const HoleReport& hole = result.report.holes.at(0);
+  ASSERT_TRUE(hole.filled) << hole.reason;
+  // The first minimisation intersected itself (that is what a retry means),
+  // a stiffer one came out clean, and relaxing it with the weight asked for
+  // kept it clean.
+  EXPECT_GT(hole.stiffened_retries, 0);
+  EXPECT_EQ(hole.self_intersections, 0);
+  EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, band.face_count()),
+            0);
+  EXPECT_EQ(hole.lambda, options.energy.lambda);
+  EXPECT_TRUE(hole.warning.empty()) << hole.warning;
+
+  // A gentler wave fills clean at once.
+  const Mesh gentle = wavy_band(48, 0.15, 5);
+  const FillResult gentle_result = fill_holes(gentle, find_boundary_loops(gentle), {0}, options);
+  const HoleReport& first_time = gentle_result.report.holes.at(0);
+  EXPECT_EQ(first_time.stiffened_retries, 0);
+  EXPECT_EQ(first_time.self_intersections, 0);
+  EXPECT_EQ(first_time.lambda, options.energy.lambda);
+}
+
+// Where relaxing to the weight asked for tangles the patch again, the clean
+// stiffer result is kept and reported: either way nothing intersects.
+TEST(Inpaint, CrumpledBandsFillWithoutSelfIntersections) {
+  const FillOptions options;
+  int stiffened = 0;
+  for (int segments : {40, 48, 56})
+    for (int waves : {5, 6}) {
+      SCOPED_TRACE(std::to_string(segments) + " segments, " + std::to_string(waves) + " waves");
+      const Mesh band = wavy_band(segments, 0.5, waves);
+      const FillResult result = fill_holes(band, find_boundary_loops(band), {0}, options);
+      const HoleReport& hole = result.report.holes.at(0);
+      ASSERT_TRUE(hole.filled) << hole.reason;
+      EXPECT_EQ(hole.self_intersections, 0);
+      EXPECT_GE(hole.lambda, options.energy.lambda);
+      stiffened += hole.lambda > options.energy.lambda;
+    }
+  std::printf("%d of 6 bands kept a stiffer bending weight\n", stiffened);
+}
+
 TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
   // A loop that touches the outer boundary cannot be flattened as an annulus.
   const CutMesh cut = folded_sheet_with_hole();

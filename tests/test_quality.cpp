@@ -192,13 +192,15 @@ TEST_F(QualityComparison, FoldfillPutsBackTheClothAndItsFoldsBetterThanLiepa) {
   ASSERT_TRUE(ours.report.holes.at(0).filled) << ours.report.holes[0].reason;
   ASSERT_TRUE(liepa.report.holes.at(0).filled) << liepa.report.holes[0].reason;
   const Figures f = measure(ours), l = measure(liepa);
-  EXPECT_NEAR(f.area_ratio, 1, 0.03);
+  // With the default (small) bending weight the sheet's own piece comes back:
+  // area 1.001, Hausdorff 0.15 h, fold ratio 1.09.
+  EXPECT_NEAR(f.area_ratio, 1, 0.01);
   EXPECT_LT(l.area_ratio, 0.95);  // the smooth fill puts back too little cloth
   EXPECT_TRUE(std::isfinite(f.hausdorff));
-  EXPECT_LT(f.hausdorff, 1.5);  // in mean edge lengths, for a hole 16 of them wide
+  EXPECT_LT(f.hausdorff, 0.5);  // in mean edge lengths, for a hole 16 of them wide
   EXPECT_LE(f.mean_distance, f.hausdorff);
   EXPECT_LT(f.mean_distance, l.mean_distance);
-  EXPECT_GT(f.fold_ratio, 0.8);
+  EXPECT_GT(f.fold_ratio, 0.9);
   EXPECT_LT(f.fold_ratio, 1.25);
   EXPECT_LT(std::abs(f.fold_ratio - 1), std::abs(l.fold_ratio - 1));
   EXPECT_EQ(f.self_intersections, 0);

@@ -134,6 +134,44 @@ TEST(TriangulateHole, UnevenBoundarySpacingStaysValid) {
   EXPECT_GT(patch.min_angle_deg, 1);
 }
 
+// Whether d lies strictly inside the circumcircle of the counter-clockwise
+// triangle (a, b, c), by more than rounding.
+bool strictly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  double rows[3][3], scale = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Vec2& p = i == 0 ? a : i == 1 ? b : c;
+    rows[i][0] = p[0] - d[0];
+    rows[i][1] = p[1] - d[1];
+    rows[i][2] = rows[i][0] * rows[i][0] + rows[i][1] * rows[i][1];
+    scale = std::max(scale, rows[i][2]);
+  }
+  const double determinant = rows[0][0] * (rows[1][1] * rows[2][2] - rows[1][2] * rows[2][1]) -
+                             rows[0][1] * (rows[1][0] * rows[2][2] - rows[1][2] * rows[2][0]) +
+                             rows[0][2] * (rows[1][0] * rows[2][1] - rows[1][1] * rows[2][0]);
+  return determinant > 1e-12 * scale * scale;
+}
+
+// The smoothing rounds restore the Delaunay property by edge flips: no face's
+// circumcircle may hold the far vertex of a face across an interior edge.
+TEST(TriangulateHole, SmoothedPatchIsConstrainedDelaunay) {
+  const std::vector<Vec2> l_shape = subdivided({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, 9);
+  for (const std::vector<Vec2>& polygon : {l_shape, circle(150, 1.0)}) {
+    const FlatPatch patch = triangulate_hole(polygon);
+    expect_valid_patch(polygon, patch);
+    std::map<std::pair<int, int>, int> far_vertex;  // half-edge -> vertex of its face
+    for (const Tri& f : patch.faces)
+      for (int i = 0; i < 3; ++i) far_vertex[{f[i], f[(i + 1) % 3]}] = f[(i + 2) % 3];
+    for (const Tri& f : patch.faces)
+      for (int i = 0; i < 3; ++i) {
+        const auto across = far_vertex.find({f[(i + 1) % 3], f[i]});
+        if (across == far_vertex.end()) continue;  // a polygon edge
+        EXPECT_FALSE(strictly_in_circle(patch.uv[f[0]], patch.uv[f[1]], patch.uv[f[2]],
+                                        patch.uv[across->second]))
+            << "edge " << f[i] << "-" << f[(i + 1) % 3] << " is not Delaunay";
+      }
+  }
+}
+
 TEST(TriangulateHole, LargeCircleIsQuick) {
   // 5000 boundary vertices and, at density 0.2, about 100k interior ones.
   const std::vector<Vec2> polygon = circle(5000, 1.0);

@@ -15,7 +15,11 @@ enum class BendingModel { Quadratic, TwoRing };
 
 // Weights are for the normalised domain (unit = mean loop edge length).
 struct EnergyOptions {
-  double lambda = 0.05;  // bending weight relative to the isometric term
+  // Bending weight relative to the isometric term. Small, so that the patch
+  // keeps the cloth's area and folds (docs/quality.md, "Tuning the defaults");
+  // a patch that crumples into itself at this weight is minimised again with
+  // a stiffer one (see fill_holes).
+  double lambda = 2e-4;
   BendingModel bending = BendingModel::Quadratic;
   double repulsion = 1.0;             // kappa, relative to the isometric term
   double repulsion_radius = 1 / 1.3;  // r_i = shortest incident rest edge * this

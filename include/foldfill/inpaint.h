@@ -11,6 +11,7 @@
 #include "foldfill/energy.h"
 #include "foldfill/holes.h"
 #include "foldfill/mesh.h"
+#include "foldfill/multilevel.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/solver.h"
 #include "foldfill/triangulate.h"
@@ -32,6 +33,9 @@ struct FillOptions {
   EnergyOptions energy;
   SolverOptions solver;
   std::vector<Obstacle> obstacles;  // in the mesh's units
+  // Large patches start from a coarser fill of the same hole instead of ARAP
+  // (see multilevel.h); `arap` then places the coarsest level.
+  MultilevelOptions multilevel;
   // When set, replaces energy.lambda, energy.repulsion and solver.step per hole.
   std::optional<PrototypeWeights> prototype;
   bool keep_flat = false;  // keep the flat strip and patch in the report
@@ -64,7 +68,13 @@ struct HoleReport {
   double gaussian_mean_abs_final = 0, gaussian_variance_final = 0;
   double edge_length_rms_rel_after_arap = 0, edge_length_rms_rel_final = 0;
   int self_intersections = 0;
-  double repulsion = 0;           // the repulsion weight finally used (raised on intersections)
+  double repulsion = 0;  // the repulsion weight the patch was minimised with
+  // The bending weight the patch was finally minimised with: the one asked
+  // for, or a stiffer one when that one's patch intersected itself.
+  double lambda = 0;
+  // How many times the patch was minimised again, stiffer, because it
+  // intersected itself (0: the first minimisation came out clean).
+  int stiffened_retries = 0;
   double flat_area = 0;           // area of the flat patch (mesh units)
   double area_ratio_to_flat = 0;  // 3D patch area / flat patch area
   double length_scale = 0;        // the hole's unit (mean loop edge length)

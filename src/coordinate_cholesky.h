@@ -1,0 +1,69 @@
+// A sparse symmetric positive definite system factored once and solved for
+// the three coordinates of every vertex at once (internal to the embed layer:
+// ARAP's global step and the solver's preconditioner).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstddef>
+#include <vector>
+
+namespace foldfill {
+
+// How hard to look for a fill-reducing ordering: AMD alone (Quick), or also
+// METIS on matrices of 10k rows and more, keeping the ordering whose
+// factorisation takes fewer flops (Thorough). METIS's analysis costs about
+// 2 ms at 1k rows and 0.6 s at 120k; its smaller factor pays that back over
+// a few hundred solves on large matrices, not over ARAP's 30.
+enum class OrderingEffort { Quick, Thorough };
+
+// A Cholesky factor P A P^T = L L^T computed by CHOLMOD (supernodal, with
+// AMD's or METIS's fill-reducing ordering), kept in its own arrays and solved
+// by the loops of coordinate_cholesky.cpp rather than by CHOLMOD's solve.
+// Right-hand sides and solutions are n x 3, row-major (x, y, z of a vertex
+// contiguous), the layout of the solver's variables; one pass over the
+// factor serves all three columns. `Value` is the type the factor's entries
+// are kept in: double, or float where an approximate inverse will do (the
+// solver's preconditioner), which halves the memory a solve streams through.
+// The arithmetic is double either way. Results do not depend on the number
+// of threads (see coordinate_cholesky.cpp).
+template <typename Value>
+class CoordinateCholesky {
+ public:
+  using Coordinates = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+  // Throws Error(FillFailed, failure) when `matrix` cannot be factored (it
+  // is not positive definite).
+  CoordinateCholesky(const Eigen::SparseMatrix<double>& matrix, OrderingEffort effort,
+                     const char* failure);
+
+  // solution = matrix^-1 rhs; `rhs` and `solution` may be the same object.
+  template <typename Rhs, typename Solution>
+  void solve(const Rhs& rhs, Solution& solution) const {
+    const Eigen::Index n = work_.rows();
+    for (Eigen::Index k = 0; k < n; ++k) work_.row(k) = rhs.row(permutation_[k]);
+    solve_permuted();
+    for (Eigen::Index k = 0; k < n; ++k) solution.row(permutation_[k]) = work_.row(k);
+  }
+
+ private:
+  // Row k of the factored system is row permutation_[k] of the matrix.
+  std::vector<int> permutation_;
+  // Supernode s: columns [first_column_[s], first_column_[s + 1]), rows
+  // rows_[pattern_start_[s] ...  pattern_start_[s + 1]) (the columns first),
+  // and from values_[value_start_[s]] the lower triangle of its dense block,
+  // column after column, each from its diagonal entry down.
+  std::vector<int> first_column_, pattern_start_, rows_;
+  std::vector<std::ptrdiff_t> value_start_;
+  std::vector<Value> values_;
+  mutable Coordinates work_;
+  mutable std::vector<double> buffer_;  // x, y, z of the rows of one supernode
+
+  // work_ = (L L^T)^-1 work_.
+  void solve_permuted() const;
+};
+
+extern template class CoordinateCholesky<double>;
+extern template class CoordinateCholesky<float>;
+
+}  // namespace foldfill
