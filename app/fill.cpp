@@ -141,8 +141,9 @@ FileFill choose_holes(const Mesh& mesh, const std::string& source, const Selecti
     by_turning.mode = HoleSelection::Mode::Auto;
     if (select_holes(fill.loops, by_turning, source).fill != fill.choice.fill) {
       fill.choice.warnings.push_back(
-          source + ": the default fills the loops that are not the longest, but the loops that turn "
-                   "like holes differ (see `foldfill holes`); --holes auto fills those");
+          source +
+          ": the default fills the loops that are not the longest, but the loops that turn "
+          "like holes differ (see `foldfill holes`); --holes auto fills those");
     }
   }
   return fill;

@@ -24,7 +24,9 @@ using namespace foldfill::cli;
 namespace {
 
 void add_selection_options(CLI::App* command, SelectionArgs& args) {
-  command->add_option("--holes", args.holes, "loops to fill: 'all', 'auto' (those that turn like a hole) or ids such as 0,2");
+  command->add_option(
+      "--holes", args.holes,
+      "loops to fill: 'all', 'auto' (those that turn like a hole) or ids such as 0,2");
   command->add_option("--near", args.near, "fill the loop closest to the point x,y,z")
       ->expected(3)
       ->delimiter(',');
@@ -66,7 +68,8 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
              mesh.face_count(), loops.size());
   for (const BoundaryLoop& loop : loops) {
     fmt::print(
-        "loop {}: {} vertices, length {:.6g}, centroid {}, bbox diagonal {:.6g}, turning {:.0f} deg "
+        "loop {}: {} vertices, length {:.6g}, centroid {}, bbox diagonal {:.6g}, turning {:.0f} "
+        "deg "
         "({}), {}{}\n",
         loop.id, loop.vertices.size(), loop.length, format_vec(loop.centroid), loop.bbox_diagonal,
         loop.turning * 180 / M_PI, turns_like_a_hole(loop) ? "hole-like" : "edge-like",

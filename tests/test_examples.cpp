@@ -25,7 +25,8 @@ double max_isometry_error(const DevelopableMesh& m) {
     for (int k = 0; k < 3; ++k) {
       const int a = f[k], b = f[(k + 1) % 3];
       const double flat = length2(m.flat[a], m.flat[b]);
-      worst = std::max(worst, std::abs(length3(m.mesh.positions[a], m.mesh.positions[b]) - flat) / flat);
+      worst = std::max(worst,
+                       std::abs(length3(m.mesh.positions[a], m.mesh.positions[b]) - flat) / flat);
     }
   }
   return worst;
@@ -89,7 +90,8 @@ TEST(Examples, CutDiskHoleLeavesOneSimpleHole) {
             static_cast<int>(sheet.mesh.faces.size()));
   // Boundary edges: the outer rectangle's plus the hole's. Euler: a disk with
   // one hole has V - E + F = 0.
-  const EdgeTopology topology = build_edge_topology(cut.cut.mesh.faces, cut.cut.mesh.vertex_count());
+  const EdgeTopology topology =
+      build_edge_topology(cut.cut.mesh.faces, cut.cut.mesh.vertex_count());
   const long euler = static_cast<long>(cut.cut.mesh.positions.size()) -
                      static_cast<long>(topology.edges.size()) +
                      static_cast<long>(cut.cut.mesh.faces.size());

@@ -33,7 +33,7 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
 }  // namespace foldfill::testing
 
 // Skips the current test with a clear message when ../shared is not there.
-#define FOLDFILL_REQUIRE_SHARED()                                                        \
-  if (foldfill::testing::shared_dir().empty())                                          \
+#define FOLDFILL_REQUIRE_SHARED()                                                             \
+  if (foldfill::testing::shared_dir().empty())                                                \
   GTEST_SKIP() << "shared data not found (looked in FOLDFILL_SHARED and " FOLDFILL_SHARED_DIR \
                   "); this test needs ../shared/data"

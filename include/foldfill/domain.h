@@ -20,7 +20,7 @@ namespace foldfill {
 // length_scale the mean edge length of the hole loop, so that every option
 // means the same on a mesh in millimetres and one in metres.
 struct EmbedDomain {
-  std::vector<Vec2> rest_uv;          // flat rest state, normalised
+  std::vector<Vec2> rest_uv;  // flat rest state, normalised
   std::vector<Tri> faces;
   std::vector<Vec3> fixed_positions;  // normalised 3D positions of the strip vertices
   int fixed_count = 0;

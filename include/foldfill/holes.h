@@ -14,20 +14,20 @@ namespace foldfill {
 // half-edges, opposite to the faces' own edges). A new face (a, b, c) whose
 // vertices run in that order around the hole is oriented like its neighbours.
 struct BoundaryLoop {
-  int id = 0;                  // position in the list, loops sorted by first vertex
-  std::vector<int> vertices;   // loop order, 0-based input indices
+  int id = 0;                   // position in the list, loops sorted by first vertex
+  std::vector<int> vertices;    // loop order, 0-based input indices
   std::vector<Vec3> positions;  // positions of `vertices`, same order (used to select near a point)
-  double length = 0;           // sum of edge lengths
-  Vec3 centroid{};             // mean of the loop vertices
-  double bbox_diagonal = 0;    // diagonal of the loop vertices' bounding box
+  double length = 0;            // sum of edge lengths
+  Vec3 centroid{};              // mean of the loop vertices
+  double bbox_diagonal = 0;     // diagonal of the loop vertices' bounding box
   double mean_edge_length = 0;
   // Total geodesic turning along the loop, sum over its vertices of (angle sum
   // of the faces at the vertex - pi), in radians. By Gauss-Bonnet it is about
   // 2 pi for a hole in nearly developable cloth (the missing piece is a disk),
   // about -2 pi for the outer edge of a sheet and about 0 for a sleeve's end.
   double turning = 0;
-  bool is_disk = true;         // false: it passes a pinched vertex (touches itself or another loop)
-  std::string reason;          // why it is not fillable, empty when it is
+  bool is_disk = true;  // false: it passes a pinched vertex (touches itself or another loop)
+  std::string reason;   // why it is not fillable, empty when it is
 };
 
 // Finds every boundary loop of `mesh`. Throws Error(NonManifold) naming
@@ -49,8 +49,8 @@ struct HoleSelection {
 };
 
 struct HoleChoice {
-  std::vector<int> fill;        // loop ids to fill, ascending
-  std::vector<int> left_open;   // loop ids left open, ascending
+  std::vector<int> fill;              // loop ids to fill, ascending
+  std::vector<int> left_open;         // loop ids left open, ascending
   std::vector<std::string> warnings;  // e.g. a non-disk loop skipped by the default choice
 };
 

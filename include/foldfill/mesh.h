@@ -21,8 +21,8 @@ struct Mesh {
   std::vector<Vec3> positions;
   std::vector<Tri> faces;
 
-  std::vector<Vec2> texcoords;     // OBJ `vt` (u, v), in file order
-  std::vector<Vec3> normals;       // OBJ `vn`, in file order
+  std::vector<Vec2> texcoords;      // OBJ `vt` (u, v), in file order
+  std::vector<Vec3> normals;        // OBJ `vn`, in file order
   std::vector<Tri> face_texcoords;  // empty, or one per face
   std::vector<Tri> face_normals;    // empty, or one per face
 

@@ -11,10 +11,10 @@ namespace foldfill {
 struct Obstacle {
   enum class Type { Sphere, Cylinder, Plane };
   Type type = Type::Sphere;
-  Vec3 center{};       // sphere, cylinder (centre of the axis segment); plane: a point on it
-  double radius = 0;   // sphere, cylinder
-  double height = 0;   // cylinder: length of the axis segment
-  Vec3 axis{0, 1, 0};  // cylinder: unit axis
+  Vec3 center{};         // sphere, cylinder (centre of the axis segment); plane: a point on it
+  double radius = 0;     // sphere, cylinder
+  double height = 0;     // cylinder: length of the axis segment
+  Vec3 axis{0, 1, 0};    // cylinder: unit axis
   Vec3 normal{0, 0, 1};  // plane: unit normal, pointing to the allowed side
 };
 

@@ -23,12 +23,13 @@ struct FlatPatch {
   std::vector<Tri> faces;  // counter-clockwise in the plane
   int boundary_count = 0;
   double area = 0;
-  double min_angle_deg = 0;       // smallest triangle angle
-  double share_below_20deg = 0;   // share of triangles with an angle under 20 degrees
+  double min_angle_deg = 0;      // smallest triangle angle
+  double share_below_20deg = 0;  // share of triangles with an angle under 20 degrees
 };
 
 // Triangulates the counter-clockwise simple polygon `polygon`. Throws
 // Error(FillFailed) when the polygon is not simple or not counter-clockwise.
-FlatPatch triangulate_hole(const std::vector<Vec2>& polygon, const TriangulateOptions& options = {});
+FlatPatch triangulate_hole(const std::vector<Vec2>& polygon,
+                           const TriangulateOptions& options = {});
 
 }  // namespace foldfill
