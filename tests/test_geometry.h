@@ -1,10 +1,11 @@
-// Small geometry shared by the tests: 2D areas and a mesh whose hole cannot
-// lie flat.
+// Small geometry shared by the tests: 2D areas, a small folded sheet and a
+// mesh whose hole cannot lie flat.
 #pragma once
 
 #include <cmath>
 #include <vector>
 
+#include "foldfill/examples.h"
 #include "foldfill/mesh.h"
 
 namespace foldfill::testing {
@@ -21,6 +22,17 @@ inline double polygon_area(const std::vector<Vec2>& polygon) {
     twice += a[0] * b[1] - a[1] * b[0];
   }
   return twice / 2;
+}
+
+// A 3 x 2 sheet with two folds of amplitude 0.2 (exactly developable).
+inline DevelopableMesh small_folded_sheet(double edge_length) {
+  FoldedSheetOptions options;
+  options.width = 3;
+  options.height = 2;
+  options.edge_length = edge_length;
+  options.amplitude = 0.2;
+  options.folds = 2;
+  return make_folded_sheet(options);
 }
 
 // A collar of `segments` quads whose inner ring (vertices [0, segments))

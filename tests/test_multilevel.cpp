@@ -10,18 +10,13 @@
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
 #include "foldfill/multilevel.h"
+#include "test_geometry.h"
 
 namespace foldfill {
 namespace {
 
 CutMesh folded_sheet_with_hole(double edge_length) {
-  FoldedSheetOptions options;
-  options.width = 3;
-  options.height = 2;
-  options.edge_length = edge_length;
-  options.amplitude = 0.2;
-  options.folds = 2;
-  return cut_disk_hole(make_folded_sheet(options), {1.9, 1.0}, 0.5);
+  return cut_disk_hole(testing::small_folded_sheet(edge_length), {1.9, 1.0}, 0.5);
 }
 
 // The flattened strip of a sheet's hole, meshed at any density.

@@ -18,21 +18,14 @@
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
 #include "foldfill/metrics.h"
+#include "test_geometry.h"
 
 namespace foldfill {
 namespace {
 
 constexpr double kEdge = 0.08;  // edge length of the test sheets
 
-DevelopableMesh folded_sheet() {
-  FoldedSheetOptions options;
-  options.width = 3;
-  options.height = 2;
-  options.edge_length = kEdge;
-  options.amplitude = 0.2;
-  options.folds = 2;
-  return make_folded_sheet(options);
-}
+DevelopableMesh folded_sheet() { return testing::small_folded_sheet(kEdge); }
 
 // Removes the faces of `sheet` whose flat centroid satisfies `inside`, and
 // the vertices left without a face (cut_disk_hole with radius 0 removes no
