@@ -121,14 +121,18 @@ struct Minimised {
   int self_intersections = 0;
 };
 
-// One minimisation from `start`, within what is left of the time limit
-// (`deadline_seconds` after `start_time`; 0: none).
+// `solver` with its time limit cut to what is left of `budget_seconds` since
+// `since` (0: no limit, left as it is).
+SolverOptions with_time_left(SolverOptions solver, double budget_seconds, Clock::time_point since) {
+  if (budget_seconds > 0)
+    solver.time_limit_seconds = std::max(budget_seconds - seconds_since(since), 1e-9);
+  return solver;
+}
+
+// One minimisation from `start`.
 Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& start,
-                        const EnergyOptions& energy_options, SolverOptions solver,
-                        const std::vector<Obstacle>& obstacles, Clock::time_point start_time,
-                        double deadline_seconds, HoleReport& report) {
-  if (deadline_seconds > 0)
-    solver.time_limit_seconds = std::max(deadline_seconds - seconds_since(start_time), 1e-9);
+                        const EnergyOptions& energy_options, const SolverOptions& solver,
+                        const std::vector<Obstacle>& obstacles, HoleReport& report) {
   Minimised result;
   result.energy.emplace(domain, energy_options);
   result.solved = minimize_energy(*result.energy, obstacles, start, solver);
@@ -170,7 +174,8 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     EnergyOptions weights = energy_options;
     weights.lambda = lambda;
     weights.repulsion = repulsion;
-    return minimise_once(domain, from, weights, solver, obstacles, start, deadline, report);
+    return minimise_once(domain, from, weights, with_time_left(solver, deadline, start), obstacles,
+                         report);
   };
   const auto cancelled = [](const Minimised& m) { return m.solved.stop_reason == "cancelled"; };
 
@@ -182,7 +187,7 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
   if (may_retry() && repulsion < EnergyOptions{}.repulsion) {
     // A weaker repulsion than the default is raised to it first, at the
     // bending weight asked for: that alone untangles the reference curtain
-    // with the prototype's weights in 280 iterations, where stiffening and
+    // with the prototype's weights in 272 iterations, where stiffening and
     // relaxing took 754 and ended 1% higher.
     repulsion = EnergyOptions{}.repulsion;
     result = minimise(initial, lambda, repulsion);
@@ -270,11 +275,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
   // The time limit covers every level: each gets what the coarser ones left.
   const auto minimisation_start = Clock::now();
   const auto solver_for_level = [&] {
-    SolverOptions level = solver;
-    if (level.time_limit_seconds > 0)
-      level.time_limit_seconds =
-          std::max(solver.time_limit_seconds - seconds_since(minimisation_start), 1e-9);
-    return level;
+    return with_time_left(solver, solver.time_limit_seconds, minimisation_start);
   };
   const auto minimise_coarse_level = [&](const EmbedDomain& level, const std::vector<Vec3>& from) {
     HoleReport level_report;  // the hole's report is the fine level's

@@ -18,13 +18,7 @@ namespace {
 
 // A folded sheet with one disk-shaped hole cut across its folds.
 CutMesh folded_sheet_with_hole(double radius = 0.5) {
-  FoldedSheetOptions options;
-  options.width = 3;
-  options.height = 2;
-  options.edge_length = 0.08;
-  options.amplitude = 0.2;
-  options.folds = 2;
-  return cut_disk_hole(make_folded_sheet(options), {1.9, 1.0}, radius);
+  return cut_disk_hole(testing::small_folded_sheet(0.08), {1.9, 1.0}, radius);
 }
 
 FillResult fill_default(const Mesh& mesh, const FillOptions& options = {}) {
