@@ -43,6 +43,12 @@ namespace {
 // without the bending block) and its analysis costs more than it saves.
 constexpr Eigen::Index kSmallestMetisOrdering = 10000;
 
+// Columns of a panel of the factor's blocks (see coordinate_cholesky.h): the
+// forward substitution updates each row of a supernode with this many
+// columns at once, loading and storing its point once for them. Four
+// columns' points (eight pairs of doubles) fit in SSE2's sixteen registers.
+constexpr int kPanelWidth = 4;
+
 std::mutex& factorisation_mutex() {
   static std::mutex mutex;
   return mutex;
@@ -123,12 +129,33 @@ std::vector<int> copy_ints(const void* data, size_t count) {
   return std::vector<int>(begin, begin + count);
 }
 
+// Values in a panel of `width` columns whose supernode has `rows` rows from
+// the panel's first column down: the strict lower triangle of the panel's
+// diagonal block, then `width` values for each row below it.
+std::ptrdiff_t panel_size(int width, int rows) {
+  return static_cast<std::ptrdiff_t>(width) * rows - width * (width + 1) / 2;
+}
+
+// Where the panel whose first column is `first` starts in the block of a
+// supernode with `rows` rows: after the panels of kPanelWidth columns
+// starting at q = 0, kPanelWidth, ..., first - kPanelWidth.
+std::ptrdiff_t panel_offset(int first, int rows) {
+  const std::ptrdiff_t before = first / kPanelWidth;
+  return before * panel_size(kPanelWidth, rows) -
+         kPanelWidth * kPanelWidth * before * (before - 1) / 2;
+}
+
+// Values in the block of a supernode with `columns` columns and `rows` rows.
+std::ptrdiff_t block_size(int columns, int rows) {
+  const int last_panel = columns / kPanelWidth * kPanelWidth;
+  return panel_offset(last_panel, rows) + panel_size(columns - last_panel, rows - last_panel);
+}
+
 }  // namespace
 
 template <typename Value>
 CoordinateCholesky<Value>::CoordinateCholesky(const Eigen::SparseMatrix<double>& matrix,
-                                              OrderingEffort effort, const char* failure)
-    : work_(matrix.rows(), 3) {
+                                              OrderingEffort effort, const char* failure) {
   use_one_blas_thread();
   CholmodFactor cholmod(effort, matrix.rows());
   const cholmod_factor* l = cholmod.factor(matrix);
@@ -138,30 +165,133 @@ CoordinateCholesky<Value>::CoordinateCholesky(const Eigen::SparseMatrix<double>&
   first_column_ = copy_ints(l->super, supernodes + 1);
   pattern_start_ = copy_ints(l->pi, supernodes + 1);
   rows_ = copy_ints(l->s, static_cast<size_t>(pattern_start_[supernodes]));
-  // CHOLMOD keeps each supernode's whole rectangle, the zeros above the
-  // diagonal included; only the lower triangle is copied.
-  const int* cholmod_value_start = static_cast<const int*>(l->px);
-  const double* cholmod_values = static_cast<const double*>(l->x);
   value_start_.resize(supernodes + 1);
   value_start_[0] = 0;
   size_t tallest = 0;
   for (size_t s = 0; s < supernodes; ++s) {
-    const std::ptrdiff_t columns = first_column_[s + 1] - first_column_[s];
-    const std::ptrdiff_t row_count = pattern_start_[s + 1] - pattern_start_[s];
-    value_start_[s + 1] = value_start_[s] + columns * row_count - columns * (columns - 1) / 2;
+    const int columns = first_column_[s + 1] - first_column_[s];
+    const int row_count = pattern_start_[s + 1] - pattern_start_[s];
+    value_start_[s + 1] = value_start_[s] + block_size(columns, row_count);
     tallest = std::max(tallest, static_cast<size_t>(row_count));
   }
+  // CHOLMOD keeps each supernode's whole rectangle, column after column.
+  const int* cholmod_value_start = static_cast<const int*>(l->px);
+  const double* cholmod_values = static_cast<const double*>(l->x);
   values_.reserve(static_cast<size_t>(value_start_[supernodes]));
+  inverse_diagonal_.resize(l->n);
   for (size_t s = 0; s < supernodes; ++s) {
     const int columns = first_column_[s + 1] - first_column_[s];
     const int row_count = pattern_start_[s + 1] - pattern_start_[s];
-    for (int j = 0; j < columns; ++j) {
-      const double* column =
-          cholmod_values + cholmod_value_start[s] + static_cast<std::ptrdiff_t>(j) * row_count;
-      for (int i = j; i < row_count; ++i) values_.push_back(static_cast<Value>(column[i]));
+    const double* block = cholmod_values + cholmod_value_start[s];
+    auto entry = [&](int i, int j) {
+      return static_cast<Value>(block[static_cast<std::ptrdiff_t>(j) * row_count + i]);
+    };
+    for (int q = 0; q < columns; q += kPanelWidth) {
+      const int width = std::min(kPanelWidth, columns - q);
+      for (int i = q + 1; i < q + width; ++i)
+        for (int j = q; j < i; ++j) values_.push_back(entry(i, j));
+      for (int i = q + width; i < row_count; ++i)
+        for (int j = q; j < q + width; ++j) values_.push_back(entry(i, j));
+    }
+    // The solve multiplies by the inverse of the diagonal entry as kept.
+    for (int j = 0; j < columns; ++j)
+      inverse_diagonal_[first_column_[s] + j] = 1 / static_cast<double>(entry(j, j));
+  }
+  work_.resize(l->n);
+  buffer_.resize(tallest);
+}
+
+namespace {
+
+// Where row i of a panel's diagonal block starts in its strict lower triangle.
+constexpr int triangle_row(int i) { return i * (i - 1) / 2; }
+
+// rows[i] -= sum over j of panel[i * Width + j] x[j], for i < count, the
+// columns j in increasing order.
+template <int Width, typename Value, typename Point>
+void subtract_panel_columns(const Value* panel, const Point* x, Point* rows, int count) {
+  Point column_x[Width];  // in registers: for the compiler, `rows` may alias `x`
+  std::copy(x, x + Width, column_x);
+  for (int i = 0; i < count; ++i, panel += Width) {
+    Point row = rows[i];
+    for (int j = 0; j < Width; ++j) row -= static_cast<double>(panel[j]) * column_x[j];
+    rows[i] = row;
+  }
+}
+
+// The same for a panel of `width` columns, fixed at compile time so that the
+// columns' points stay in registers.
+template <typename Value, typename Point>
+void subtract_panel_columns(int width, const Value* panel, const Point* x, Point* rows, int count) {
+  static_assert(kPanelWidth == 4, "one case per panel width");
+  switch (width) {
+    case 1:
+      return subtract_panel_columns<1>(panel, x, rows, count);
+    case 2:
+      return subtract_panel_columns<2>(panel, x, rows, count);
+    case 3:
+      return subtract_panel_columns<3>(panel, x, rows, count);
+    default:
+      return subtract_panel_columns<4>(panel, x, rows, count);
+  }
+}
+
+}  // namespace
+
+// Forward substitution, panel by panel: the panel's columns are solved in
+// its diagonal block, then subtracted from every row below. Each row thus
+// receives its columns' terms in increasing order, as it would column by
+// column.
+template <typename Value>
+void CoordinateCholesky<Value>::forward_supernode(int s) const {
+  const int first = first_column_[s];
+  const int columns = first_column_[s + 1] - first;
+  const int row_count = pattern_start_[s + 1] - pattern_start_[s];
+  Point* b = buffer_.data();
+  const Value* panel = values_.data() + value_start_[s];
+  for (int q = 0; q < columns; q += kPanelWidth) {
+    const int width = std::min(kPanelWidth, columns - q);
+    for (int i = 0; i < width; ++i) {
+      Point row = b[q + i];
+      const Value* entry = panel + triangle_row(i);
+      for (int j = 0; j < i; ++j) row -= static_cast<double>(entry[j]) * b[q + j];
+      b[q + i] = row * inverse_diagonal_[first + q + i];
+    }
+    const Value* below = panel + triangle_row(width);
+    const int rows_below = row_count - q - width;
+    subtract_panel_columns(width, below, b + q, b + q + width, rows_below);
+    panel = below + static_cast<std::ptrdiff_t>(rows_below) * width;
+  }
+}
+
+// Back substitution, column by column from the last: x_j = (y_j - sum over
+// the rows i below j, in increasing order, of L(i, j) x_i) / L(j, j). Each
+// sum is one chain of dependent subtractions, so this half runs at their
+// latency; running the panel's sums side by side, row by row (as the forward
+// substitution does), measured 10% faster solves but would change the order
+// of the sums, hence the rounding, and with it the minimisations' paths.
+template <typename Value>
+void CoordinateCholesky<Value>::backward_supernode(int s) const {
+  const int first = first_column_[s];
+  const int columns = first_column_[s + 1] - first;
+  const int row_count = pattern_start_[s + 1] - pattern_start_[s];
+  Point* b = buffer_.data();
+  for (int q = (columns - 1) / kPanelWidth * kPanelWidth; q >= 0; q -= kPanelWidth) {
+    const int width = std::min(kPanelWidth, columns - q);
+    const Value* panel = values_.data() + value_start_[s] + panel_offset(q, row_count);
+    const Value* below = panel + triangle_row(width);
+    for (int j = width - 1; j >= 0; --j) {
+      Point sum = b[q + j];
+      for (int i = j + 1; i < width; ++i)
+        sum -= static_cast<double>(panel[triangle_row(i) + j]) * b[q + i];
+      const Value* entry = below + j;
+      // Two rows an iteration: fewer instructions for the loop, same sum.
+#pragma GCC unroll 2
+      for (int i = q + width; i < row_count; ++i, entry += width)
+        sum -= static_cast<double>(*entry) * b[i];
+      b[q + j] = sum * inverse_diagonal_[first + q + j];
     }
   }
-  buffer_.resize(3 * tallest);
 }
 
 // L y = b, then L^T x = y, supernode by supernode. Each supernode gathers
@@ -171,45 +301,20 @@ CoordinateCholesky<Value>::CoordinateCholesky(const Eigen::SparseMatrix<double>&
 // run over contiguous memory.
 template <typename Value>
 void CoordinateCholesky<Value>::solve_permuted() const {
-  double* y = work_.data();
-  double* buffer = buffer_.data();
+  Point* y = work_.data();
+  Point* buffer = buffer_.data();
   const int supernodes = static_cast<int>(first_column_.size()) - 1;
   auto gather = [&](const int* row, int count) {
-    for (int i = 0; i < count; ++i)
-      for (int c = 0; c < 3; ++c)
-        buffer[3 * i + c] = y[3 * static_cast<std::ptrdiff_t>(row[i]) + c];
+    for (int i = 0; i < count; ++i) buffer[i] = y[row[i]];
   };
   auto scatter = [&](const int* row, int count) {
-    for (int i = 0; i < count; ++i)
-      for (int c = 0; c < 3; ++c)
-        y[3 * static_cast<std::ptrdiff_t>(row[i]) + c] = buffer[3 * i + c];
-  };
-  // Column j of a supernode with r rows starts j r - j (j - 1) / 2 values
-  // into its block and holds rows j .. r - 1.
-  auto column_of = [&](int s, int j, int row_count) {
-    return values_.data() + value_start_[s] + static_cast<std::ptrdiff_t>(j) * row_count -
-           static_cast<std::ptrdiff_t>(j) * (j - 1) / 2;
+    for (int i = 0; i < count; ++i) y[row[i]] = buffer[i];
   };
   for (int s = 0; s < supernodes; ++s) {
-    const int columns = first_column_[s + 1] - first_column_[s];
     const int row_count = pattern_start_[s + 1] - pattern_start_[s];
     const int* row = rows_.data() + pattern_start_[s];
     gather(row, row_count);
-    for (int j = 0; j < columns; ++j) {
-      const Value* column = column_of(s, j, row_count) - j;  // column[i]: row i
-      const double inverse = 1 / static_cast<double>(column[j]);
-      const double x0 = buffer[3 * j] * inverse, x1 = buffer[3 * j + 1] * inverse,
-                   x2 = buffer[3 * j + 2] * inverse;
-      buffer[3 * j] = x0;
-      buffer[3 * j + 1] = x1;
-      buffer[3 * j + 2] = x2;
-      for (int i = j + 1; i < row_count; ++i) {
-        const double entry = column[i];
-        buffer[3 * i] -= entry * x0;
-        buffer[3 * i + 1] -= entry * x1;
-        buffer[3 * i + 2] -= entry * x2;
-      }
-    }
+    forward_supernode(s);
     scatter(row, row_count);
   }
   for (int s = supernodes - 1; s >= 0; --s) {
@@ -217,20 +322,7 @@ void CoordinateCholesky<Value>::solve_permuted() const {
     const int row_count = pattern_start_[s + 1] - pattern_start_[s];
     const int* row = rows_.data() + pattern_start_[s];
     gather(row, row_count);
-    for (int j = columns - 1; j >= 0; --j) {
-      const Value* column = column_of(s, j, row_count) - j;
-      double s0 = buffer[3 * j], s1 = buffer[3 * j + 1], s2 = buffer[3 * j + 2];
-      for (int i = j + 1; i < row_count; ++i) {
-        const double entry = column[i];
-        s0 -= entry * buffer[3 * i];
-        s1 -= entry * buffer[3 * i + 1];
-        s2 -= entry * buffer[3 * i + 2];
-      }
-      const double inverse = 1 / static_cast<double>(column[j]);
-      buffer[3 * j] = s0 * inverse;
-      buffer[3 * j + 1] = s1 * inverse;
-      buffer[3 * j + 2] = s2 * inverse;
-    }
+    backward_supernode(s);
     scatter(row, columns);
   }
 }

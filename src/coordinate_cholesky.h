@@ -40,27 +40,42 @@ class CoordinateCholesky {
   // solution = matrix^-1 rhs; `rhs` and `solution` may be the same object.
   template <typename Rhs, typename Solution>
   void solve(const Rhs& rhs, Solution& solution) const {
-    const Eigen::Index n = work_.rows();
-    for (Eigen::Index k = 0; k < n; ++k) work_.row(k) = rhs.row(permutation_[k]);
+    const size_t n = work_.size();
+    for (size_t k = 0; k < n; ++k) {
+      const Eigen::Index from = permutation_[k];
+      work_[k] = Point(rhs(from, 0), rhs(from, 1), rhs(from, 2), 0);
+    }
     solve_permuted();
-    for (Eigen::Index k = 0; k < n; ++k) solution.row(permutation_[k]) = work_.row(k);
+    for (size_t k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) solution(permutation_[k], c) = work_[k][c];
   }
 
  private:
+  // x, y, z of a vertex and a zero, so that the arithmetic on a point runs
+  // on two pairs of doubles (SSE2's width) rather than on three doubles.
+  using Point = Eigen::Array4d;
+
   // Row k of the factored system is row permutation_[k] of the matrix.
   std::vector<int> permutation_;
   // Supernode s: columns [first_column_[s], first_column_[s + 1]), rows
   // rows_[pattern_start_[s] ...  pattern_start_[s + 1]) (the columns first),
-  // and from values_[value_start_[s]] the lower triangle of its dense block,
-  // column after column, each from its diagonal entry down.
+  // and from values_[value_start_[s]] its dense block in panels of four
+  // columns (fewer in the last), panel by panel, each row after row: the
+  // strict lower triangle of the panel's diagonal block (the diagonal is in
+  // inverse_diagonal_), then the rows below it, all of the panel's columns.
   std::vector<int> first_column_, pattern_start_, rows_;
   std::vector<std::ptrdiff_t> value_start_;
   std::vector<Value> values_;
-  mutable Coordinates work_;
-  mutable std::vector<double> buffer_;  // x, y, z of the rows of one supernode
+  std::vector<double> inverse_diagonal_;  // 1 / L(k, k)
+  mutable std::vector<Point> work_;
+  mutable std::vector<Point> buffer_;  // the rows of one supernode
 
   // work_ = (L L^T)^-1 work_.
   void solve_permuted() const;
+  // Supernode s's part of L y = b, and of L^T x = y, on its rows gathered
+  // into buffer_.
+  void forward_supernode(int s) const;
+  void backward_supernode(int s) const;
 };
 
 extern template class CoordinateCholesky<double>;

@@ -144,6 +144,63 @@ TEST(Arap, ShrunkRestShapeGivesShorterEdges) {
   EXPECT_LT(shrunk, full - 0.05);
 }
 
+// How many iterations `options` ran: the run is deterministic, so its result
+// is bit for bit that of the same number of iterations without early stop
+// (-1 if none matches).
+int iterations_run(const EmbedDomain& domain, const ArapOptions& options) {
+  const std::vector<Vec3> result = arap_embed(domain, options);
+  for (int k = 0; k <= options.iterations; ++k)
+    if (arap_embed(domain, {options.shrink, k, 0.0}) == result) return k;
+  return -1;
+}
+
+double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double worst = 0;
+  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, length(a[i], b[i]));
+  return worst;
+}
+
+// A rigidly placed boundary is fitted by the start itself: the first
+// iteration moves nothing, and there is nothing left to iterate for.
+TEST(Arap, StopsAtOnceWhenTheStartIsTheAnswer) {
+  const EmbedDomain domain = lattice_domain(12, 11, rigid_motion);
+  EXPECT_EQ(iterations_run(domain, {1.0, 30}), 1);
+}
+
+// The bent, shrunk patch converges linearly: early stop ends well before the
+// cap, close to where many more iterations end (the lattice's edges are 1).
+TEST(Arap, EarlyStopEndsNearTheConvergedEmbedding) {
+  const EmbedDomain domain = lattice_domain(14, 12, onto_cylinder(2.5));
+  const ArapOptions early{0.5, 30};
+  const int iterations = iterations_run(domain, early);
+  EXPECT_GT(iterations, 3);
+  EXPECT_LT(iterations, 30);
+  const std::vector<Vec3> converged = arap_embed(domain, {0.5, 300, 0.0});
+  EXPECT_LT(largest_distance(arap_embed(domain, early), converged), 2 * early.tolerance);
+  // A tenth of the tolerance takes more iterations and ends nearer.
+  const ArapOptions tighter{0.5, 30, 0.1 * early.tolerance};
+  EXPECT_GT(iterations_run(domain, tighter), iterations);
+  EXPECT_LT(largest_distance(arap_embed(domain, tighter), converged),
+            largest_distance(arap_embed(domain, early), converged));
+}
+
+// The tolerance is in rest edge lengths: the same domain ten times larger
+// stops after the same number of iterations.
+TEST(Arap, ToleranceIsRelativeToTheEdgeLength) {
+  const EmbedDomain domain = lattice_domain(14, 12, onto_cylinder(2.5));
+  EmbedDomain larger = domain;
+  for (Vec2& p : larger.rest_uv) p = {10 * p[0], 10 * p[1]};
+  for (Vec3& p : larger.fixed_positions) p = {10 * p[0], 10 * p[1], 10 * p[2]};
+  EXPECT_EQ(iterations_run(larger, {0.5, 30}), iterations_run(domain, {0.5, 30}));
+}
+
+// Iterations stop at the cap, converged or not.
+TEST(Arap, StopsAtTheCap) {
+  const EmbedDomain domain = lattice_domain(14, 12, onto_cylinder(2.5));
+  EXPECT_EQ(iterations_run(domain, {0.5, 4}), 4);
+  EXPECT_NE(arap_embed(domain, {0.5, 4}), arap_embed(domain, {0.5, 5}));
+}
+
 TEST(Arap, IsDeterministic) {
   const EmbedDomain domain = lattice_domain(10, 9, onto_cylinder(2.0));
   EXPECT_EQ(arap_embed(domain, {0.5, 20}), arap_embed(domain, {0.5, 20}));
@@ -158,6 +215,7 @@ TEST(Arap, RejectsInconsistentDomains) {
   EXPECT_THROW(arap_embed(domain), Error);
   domain = lattice_domain(6, 6, rigid_motion);
   EXPECT_THROW(arap_embed(domain, {0.0, 30}), Error);
+  EXPECT_THROW(arap_embed(domain, {0.5, 30, -1.0}), Error);
 }
 
 // A free vertex in no face is tied to nothing: the global step's matrix is

@@ -366,6 +366,160 @@ TEST(Repulsion, ReusedCandidatesGiveTheEnergyOfAFreshSearch) {
   EXPECT_GT(reused.evaluate(squeezed).repulsion, 0.1);
 }
 
+// The repulsion from all pairs (i > j, i free, not joined by an edge): the
+// candidates, those closer than their radius plus the skin, in (i, j) order,
+// and the energy summed in that order as FabricEnergy sums its candidates, so
+// equal bit for bit when its list holds every close pair. `close` counts the
+// pairs closer than their radius, `wide` those with a fixed end of radius
+// above `wide_radius`.
+struct AllPairs {
+  std::vector<FabricEnergy::RepulsionPair> candidates;
+  double repulsion = 0;
+  int close = 0, wide = 0;
+};
+
+AllPairs all_pairs(const FabricEnergy& energy, const Eigen::VectorXd& x, double wide_radius) {
+  const EmbedDomain& domain = energy.domain();
+  const int n = domain.vertex_count();
+  std::vector<double> radius(n, HUGE_VAL);
+  std::set<std::pair<int, int>> edges;
+  for (const Tri& t : domain.faces) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const double length = std::hypot(domain.rest_uv[a][0] - domain.rest_uv[b][0],
+                                       domain.rest_uv[a][1] - domain.rest_uv[b][1]);
+      radius[a] = std::min(radius[a], length);
+      radius[b] = std::min(radius[b], length);
+      edges.insert(std::minmax(a, b));
+    }
+  }
+  for (double& r : radius) r *= energy.options().repulsion_radius;
+  const double skin = energy.repulsion_skin();
+  const std::vector<Vec3> p = energy.positions(x);
+  AllPairs all;
+  double sum = 0;
+  for (int i = domain.fixed_count; i < n; ++i) {
+    for (int j = 0; j < i; ++j) {
+      const double r = 0.5 * (radius[i] + radius[j]);
+      const double d[3] = {p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]};
+      const double distance_sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      if (!(distance_sq < (r + skin) * (r + skin)) || edges.count({j, i})) continue;
+      all.candidates.push_back({i, j, r});
+      if (!(distance_sq < r * r)) continue;
+      const double overlap = r - std::sqrt(distance_sq);
+      sum += overlap * overlap;
+      ++all.close;
+      all.wide += radius[j] > wide_radius;
+    }
+  }
+  all.repulsion = 0.5 * sum;
+  return all;
+}
+
+bool same_pairs(const std::vector<FabricEnergy::RepulsionPair>& a,
+                const std::vector<FabricEnergy::RepulsionPair>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& p, const auto& q) {
+    return p.i == q.i && p.j == q.j && p.radius == q.radius;
+  });
+}
+
+// An n x n grid with rest positions shaken by up to `shake` (so radii differ),
+// plus fixed equilateral triangles of edge 1.5 (radius 1.5 / 1.3, more than
+// 1.25 times any free vertex's) at the front of the fixed vertices, flat at
+// each of `wide_at`.
+EmbedDomain uneven_domain(int n, double shake, const std::vector<Vec3>& wide_at) {
+  EmbedDomain grid = grid_domain(n);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> noise(-shake, shake);
+  for (int v = grid.fixed_count; v < grid.vertex_count(); ++v) {
+    for (int c = 0; c < 2; ++c) grid.rest_uv[v][c] += noise(random);
+  }
+  EmbedDomain domain;
+  const int added = 3 * static_cast<int>(wide_at.size());
+  const Vec2 corner[3] = {{0, 0}, {1.5, 0}, {0.75, 0.75 * std::sqrt(3.0)}};
+  for (size_t t = 0; t < wide_at.size(); ++t) {
+    const int first = static_cast<int>(domain.rest_uv.size());
+    for (const Vec2& c : corner) {
+      domain.rest_uv.push_back({c[0] + 10.0 * n * (t + 1), c[1]});
+      domain.fixed_positions.push_back({wide_at[t][0] + c[0], wide_at[t][1] + c[1], wide_at[t][2]});
+    }
+    domain.faces.push_back({first, first + 1, first + 2});
+  }
+  domain.rest_uv.insert(domain.rest_uv.end(), grid.rest_uv.begin(), grid.rest_uv.end());
+  domain.fixed_positions.insert(domain.fixed_positions.end(), grid.fixed_positions.begin(),
+                                grid.fixed_positions.end());
+  for (Tri t : grid.faces) {
+    for (int& v : t) v += added;
+    domain.faces.push_back(t);
+  }
+  domain.fixed_count = added + grid.fixed_count;
+  domain.loop_size = grid.loop_size;
+  return domain;
+}
+
+// The candidate search (a grid, plus wider searches around long-edged fixed
+// vertices) against all pairs, bit for bit: on a crumpled sheet (few occupied
+// cells) and on a wide wavy one (many), with fixed triangles of long edges
+// lying across each, and on a crumpled sheet of equal radii (where many pairs
+// are as far apart as the grid must reach). Along a path the candidates found
+// at an earlier state give the energy of all pairs; a fresh object finds
+// exactly all candidates.
+TEST(Repulsion, CandidatesAreAllPairsWithinReach) {
+  struct Sheet {
+    int n;
+    double shake, squeeze;  // squeeze: of x and y towards the centre
+    std::vector<Vec3> wide_at;
+  };
+  for (const Sheet& sheet :
+       {Sheet{14, 0.2, 0.3, {{4.5, 4.5, 0}, {5, 6, 0.3}}},
+        Sheet{48, 0.2, 1, {{20, 20, 0}, {30, 10, 0.5}, {5, 40, -0.2}}}, Sheet{16, 0, 0.4, {}}}) {
+    const EmbedDomain domain = uneven_domain(sheet.n, sheet.shake, sheet.wide_at);
+    const EnergyOptions options = weights(0.1, 1, BendingModel::Quadratic);
+    const FabricEnergy reused(domain, options);
+    const double centre = 0.5 * (sheet.n - 1);
+    Eigen::VectorXd start(3 * domain.free_count());
+    for (int v = 0; v < domain.free_count(); ++v) {
+      const Vec2& uv = domain.rest_uv[domain.fixed_count + v];
+      for (int c = 0; c < 2; ++c) start[3 * v + c] = centre + sheet.squeeze * (uv[c] - centre);
+      start[3 * v + 2] = 0.3 * std::sin(uv[0]) * std::cos(0.7 * uv[1]);
+    }
+    const Eigen::VectorXd end = perturbed(start, 0.5, 13);
+    int close = 0, wide = 0;
+    for (int k = 0; k <= 10; ++k) {
+      const Eigen::VectorXd x = start + (k / 10.0) * (end - start);
+      const AllPairs all = all_pairs(reused, x, 1.4 / 1.3);
+      EXPECT_EQ(reused.evaluate(x).repulsion, all.repulsion) << sheet.n << " step " << k;
+      const FabricEnergy fresh(domain, options);
+      EXPECT_EQ(fresh.evaluate(x).repulsion, all.repulsion) << sheet.n << " step " << k;
+      EXPECT_TRUE(same_pairs(fresh.repulsion_candidates(), all.candidates))
+          << sheet.n << " step " << k;
+      close += all.close;
+      wide += all.wide;
+    }
+    EXPECT_GT(close, 100) << sheet.n;
+    EXPECT_EQ(wide > 0, !sheet.wide_at.empty()) << sheet.n;
+  }
+}
+
+// Far-flung points (as a diverging line search tries) keep every close pair:
+// cell coordinates saturate rather than wrap or collide.
+TEST(Repulsion, FarPointsKeepTheirClosePairs) {
+  const EmbedDomain domain = uneven_domain(8, 0.2, {{2, 2, 0}});
+  for (double far : {1e6, 1e12, 1e20, -1e300}) {
+    const FabricEnergy energy(domain, weights(0, 1, BendingModel::Quadratic));
+    Eigen::VectorXd x = perturbed(embedded_variables(domain, flat), 0.3, 17);
+    // Two free vertices not joined by an edge (the first and the last) 0.1
+    // apart far away; the same point beyond 1e16.
+    const Eigen::Index last = x.size() - 3;
+    x.segment<3>(0) << far, far, far;
+    x.segment<3>(last) << far, far, far + 0.1;
+    const AllPairs all = all_pairs(energy, x, 1.4 / 1.3);
+    EXPECT_EQ(energy.evaluate(x).repulsion, all.repulsion) << far;
+    EXPECT_TRUE(same_pairs(energy.repulsion_candidates(), all.candidates)) << far;
+    EXPECT_GT(all.close, 0) << far;
+  }
+}
+
 TEST(QuadraticBending, HessianIsSymmetricPositiveSemidefinite) {
   const EmbedDomain domain = grid_domain(7);
   const FabricEnergy energy(domain, {});

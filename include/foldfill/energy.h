@@ -65,6 +65,18 @@ class FabricEnergy {
     int i, j;
     double radius;
   };
+  // The repulsion's candidate pairs as of the last evaluation (none before one,
+  // or when nothing repels): every pair closer than its radius plus
+  // repulsion_skin() when they were last searched, sorted by (i, j).
+  const std::vector<RepulsionPair>& repulsion_candidates() const { return repulsion_pairs_; }
+  double repulsion_skin() const { return repulsion_skin_; }
+  // How the candidate pairs are searched (see energy.cpp): in a grid of cells
+  // of `cell_size` holding `grid_vertices`, and around each of the few
+  // long-edged `wide_vertices`, which are fixed.
+  struct RepulsionSearch {
+    std::vector<int> grid_vertices, wide_vertices;
+    double cell_size = 0;
+  };
   // The two-ring model's bending springs (weight lambda), empty for quadratic.
   const std::vector<Spring>& two_ring_springs() const { return two_ring_springs_; }
   // Constant bending Hessian over all domain vertices (per coordinate) for the
@@ -93,8 +105,8 @@ class FabricEnergy {
   // (see energy.cpp); the energy does not depend on when they were found.
   mutable std::vector<RepulsionPair> repulsion_pairs_;
   mutable Points repulsion_anchor_;
-  double repulsion_skin_ = 0;   // 0: no vertex repels (all radii 0)
-  double repulsion_reach_ = 0;  // the largest patch radius plus the skin
+  double repulsion_skin_ = 0;  // 0: no vertex repels (all radii 0)
+  RepulsionSearch repulsion_search_;
   void update_repulsion_pairs() const;
 };
 
