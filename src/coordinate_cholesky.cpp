@@ -129,27 +129,8 @@ std::vector<int> copy_ints(const void* data, size_t count) {
   return std::vector<int>(begin, begin + count);
 }
 
-// Values in a panel of `width` columns whose supernode has `rows` rows from
-// the panel's first column down: the strict lower triangle of the panel's
-// diagonal block, then `width` values for each row below it.
-std::ptrdiff_t panel_size(int width, int rows) {
-  return static_cast<std::ptrdiff_t>(width) * rows - width * (width + 1) / 2;
-}
-
-// Where the panel whose first column is `first` starts in the block of a
-// supernode with `rows` rows: after the panels of kPanelWidth columns
-// starting at q = 0, kPanelWidth, ..., first - kPanelWidth.
-std::ptrdiff_t panel_offset(int first, int rows) {
-  const std::ptrdiff_t before = first / kPanelWidth;
-  return before * panel_size(kPanelWidth, rows) -
-         kPanelWidth * kPanelWidth * before * (before - 1) / 2;
-}
-
-// Values in the block of a supernode with `columns` columns and `rows` rows.
-std::ptrdiff_t block_size(int columns, int rows) {
-  const int last_panel = columns / kPanelWidth * kPanelWidth;
-  return panel_offset(last_panel, rows) + panel_size(columns - last_panel, rows - last_panel);
-}
+// Where row i of a panel's diagonal block starts in its strict lower triangle.
+constexpr int triangle_row(int i) { return i * (i - 1) / 2; }
 
 }  // namespace
 
@@ -165,74 +146,106 @@ CoordinateCholesky<Value>::CoordinateCholesky(const Eigen::SparseMatrix<double>&
   first_column_ = copy_ints(l->super, supernodes + 1);
   pattern_start_ = copy_ints(l->pi, supernodes + 1);
   rows_ = copy_ints(l->s, static_cast<size_t>(pattern_start_[supernodes]));
-  value_start_.resize(supernodes + 1);
-  value_start_[0] = 0;
-  size_t tallest = 0;
-  for (size_t s = 0; s < supernodes; ++s) {
-    const int columns = first_column_[s + 1] - first_column_[s];
-    const int row_count = pattern_start_[s + 1] - pattern_start_[s];
-    value_start_[s + 1] = value_start_[s] + block_size(columns, row_count);
-    tallest = std::max(tallest, static_cast<size_t>(row_count));
-  }
   // CHOLMOD keeps each supernode's whole rectangle, column after column.
   const int* cholmod_value_start = static_cast<const int*>(l->px);
   const double* cholmod_values = static_cast<const double*>(l->x);
-  values_.reserve(static_cast<size_t>(value_start_[supernodes]));
-  inverse_diagonal_.resize(l->n);
+  // Calls visit_panel(entry, q, width, row_count) for each panel of each
+  // supernode in turn, entry(i, j) being the supernode's L(i, j) as kept.
+  auto for_each_panel = [&](auto visit_panel) {
+    for (size_t s = 0; s < supernodes; ++s) {
+      const int columns = first_column_[s + 1] - first_column_[s];
+      const int row_count = pattern_start_[s + 1] - pattern_start_[s];
+      const double* block = cholmod_values + cholmod_value_start[s];
+      auto entry = [&](int i, int j) {
+        return static_cast<Value>(block[static_cast<std::ptrdiff_t>(j) * row_count + i]);
+      };
+      for (int q = 0; q < columns; q += kPanelWidth)
+        visit_panel(entry, q, std::min(kPanelWidth, columns - q), row_count);
+    }
+  };
+  first_panel_.resize(supernodes + 1);
+  first_panel_[0] = 0;
+  size_t tallest = 0;
   for (size_t s = 0; s < supernodes; ++s) {
     const int columns = first_column_[s + 1] - first_column_[s];
-    const int row_count = pattern_start_[s + 1] - pattern_start_[s];
-    const double* block = cholmod_values + cholmod_value_start[s];
-    auto entry = [&](int i, int j) {
-      return static_cast<Value>(block[static_cast<std::ptrdiff_t>(j) * row_count + i]);
-    };
-    for (int q = 0; q < columns; q += kPanelWidth) {
-      const int width = std::min(kPanelWidth, columns - q);
-      for (int i = q + 1; i < q + width; ++i)
-        for (int j = q; j < i; ++j) values_.push_back(entry(i, j));
-      for (int i = q + width; i < row_count; ++i)
-        for (int j = q; j < q + width; ++j) values_.push_back(entry(i, j));
-    }
-    // The solve multiplies by the inverse of the diagonal entry as kept.
-    for (int j = 0; j < columns; ++j)
-      inverse_diagonal_[first_column_[s] + j] = 1 / static_cast<double>(entry(j, j));
+    first_panel_[s + 1] = first_panel_[s] + (columns + kPanelWidth - 1) / kPanelWidth;
+    tallest = std::max(tallest, static_cast<size_t>(pattern_start_[s + 1] - pattern_start_[s]));
   }
+  // The runs of rows below each panel's diagonal block with a nonzero entry
+  // in the panel, and how many values the panels keep.
+  run_start_.reserve(static_cast<size_t>(first_panel_[supernodes]) + 1);
+  run_start_.push_back(0);
+  size_t value_count = 0;
+  for_each_panel([&](auto entry, int q, int width, int row_count) {
+    value_count += static_cast<size_t>(triangle_row(width));
+    for (int i = q + width; i < row_count; ++i) {
+      bool zero = true;
+      for (int j = q; j < q + width; ++j) zero = zero && entry(i, j) == 0;
+      if (zero) continue;
+      value_count += static_cast<size_t>(width);
+      const bool extends_run = static_cast<int>(nonzero_runs_.size()) > run_start_.back() &&
+                               nonzero_runs_.back().end == i;
+      if (extends_run)
+        ++nonzero_runs_.back().end;
+      else
+        nonzero_runs_.push_back({i, i + 1});
+    }
+    run_start_.push_back(static_cast<int>(nonzero_runs_.size()));
+  });
+  values_.reserve(value_count);
+  panel_value_start_.reserve(run_start_.size());
+  const RowRun* run = nonzero_runs_.data();
+  inverse_diagonal_.reserve(l->n);
+  for_each_panel([&](auto entry, int q, int width, int) {
+    // The solve multiplies by the inverse of the diagonal entry as kept.
+    for (int j = q; j < q + width; ++j)
+      inverse_diagonal_.push_back(1 / static_cast<double>(entry(j, j)));
+    panel_value_start_.push_back(static_cast<std::ptrdiff_t>(values_.size()));
+    for (int i = q + 1; i < q + width; ++i)
+      for (int j = q; j < i; ++j) values_.push_back(entry(i, j));
+    const RowRun* runs_end = nonzero_runs_.data() + run_start_[panel_value_start_.size()];
+    for (; run != runs_end; ++run)
+      for (int i = run->begin; i < run->end; ++i)
+        for (int j = q; j < q + width; ++j) values_.push_back(entry(i, j));
+  });
+  panel_value_start_.push_back(static_cast<std::ptrdiff_t>(values_.size()));
   work_.resize(l->n);
   buffer_.resize(tallest);
 }
 
 namespace {
 
-// Where row i of a panel's diagonal block starts in its strict lower triangle.
-constexpr int triangle_row(int i) { return i * (i - 1) / 2; }
-
-// rows[i] -= sum over j of panel[i * Width + j] x[j], for i < count, the
-// columns j in increasing order.
-template <int Width, typename Value, typename Point>
-void subtract_panel_columns(const Value* panel, const Point* x, Point* rows, int count) {
+// rows[i] -= sum over j of panel[k * Width + j] x[j] for the k-th row i of
+// the runs [run, runs_end), the columns j in increasing order.
+template <int Width, typename Value, typename Point, typename Run>
+void subtract_panel_columns(const Value* panel, const Point* x, Point* rows, const Run* run,
+                            const Run* runs_end) {
   Point column_x[Width];  // in registers: for the compiler, `rows` may alias `x`
   std::copy(x, x + Width, column_x);
-  for (int i = 0; i < count; ++i, panel += Width) {
-    Point row = rows[i];
-    for (int j = 0; j < Width; ++j) row -= static_cast<double>(panel[j]) * column_x[j];
-    rows[i] = row;
+  for (; run != runs_end; ++run) {
+    for (int i = run->begin; i < run->end; ++i, panel += Width) {
+      Point row = rows[i];
+      for (int j = 0; j < Width; ++j) row -= static_cast<double>(panel[j]) * column_x[j];
+      rows[i] = row;
+    }
   }
 }
 
 // The same for a panel of `width` columns, fixed at compile time so that the
 // columns' points stay in registers.
-template <typename Value, typename Point>
-void subtract_panel_columns(int width, const Value* panel, const Point* x, Point* rows, int count) {
+template <typename Value, typename Point, typename Run>
+void subtract_panel_columns(int width, const Value* panel, const Point* x, Point* rows,
+                            const Run* run, const Run* runs_end) {
   static_assert(kPanelWidth == 4, "one case per panel width");
   switch (width) {
     case 1:
-      return subtract_panel_columns<1>(panel, x, rows, count);
+      return subtract_panel_columns<1>(panel, x, rows, run, runs_end);
     case 2:
-      return subtract_panel_columns<2>(panel, x, rows, count);
+      return subtract_panel_columns<2>(panel, x, rows, run, runs_end);
     case 3:
-      return subtract_panel_columns<3>(panel, x, rows, count);
+      return subtract_panel_columns<3>(panel, x, rows, run, runs_end);
     default:
-      return subtract_panel_columns<4>(panel, x, rows, count);
+      return subtract_panel_columns<4>(panel, x, rows, run, runs_end);
   }
 }
 
@@ -241,26 +254,25 @@ void subtract_panel_columns(int width, const Value* panel, const Point* x, Point
 // Forward substitution, panel by panel: the panel's columns are solved in
 // its diagonal block, then subtracted from every row below. Each row thus
 // receives its columns' terms in increasing order, as it would column by
-// column.
+// column. The rows left out, where the panel is zero, would only have
+// subtracted zeros (see nonzero_runs_ in coordinate_cholesky.h).
 template <typename Value>
 void CoordinateCholesky<Value>::forward_supernode(int s) const {
   const int first = first_column_[s];
   const int columns = first_column_[s + 1] - first;
-  const int row_count = pattern_start_[s + 1] - pattern_start_[s];
   Point* b = buffer_.data();
-  const Value* panel = values_.data() + value_start_[s];
-  for (int q = 0; q < columns; q += kPanelWidth) {
+  for (int q = 0, p = first_panel_[s]; q < columns; q += kPanelWidth, ++p) {
     const int width = std::min(kPanelWidth, columns - q);
+    const Value* panel = values_.data() + panel_value_start_[p];
     for (int i = 0; i < width; ++i) {
       Point row = b[q + i];
       const Value* entry = panel + triangle_row(i);
       for (int j = 0; j < i; ++j) row -= static_cast<double>(entry[j]) * b[q + j];
       b[q + i] = row * inverse_diagonal_[first + q + i];
     }
-    const Value* below = panel + triangle_row(width);
-    const int rows_below = row_count - q - width;
-    subtract_panel_columns(width, below, b + q, b + q + width, rows_below);
-    panel = below + static_cast<std::ptrdiff_t>(rows_below) * width;
+    subtract_panel_columns(width, panel + triangle_row(width), b + q, b,
+                           nonzero_runs_.data() + run_start_[p],
+                           nonzero_runs_.data() + run_start_[p + 1]);
   }
 }
 
@@ -274,21 +286,26 @@ template <typename Value>
 void CoordinateCholesky<Value>::backward_supernode(int s) const {
   const int first = first_column_[s];
   const int columns = first_column_[s + 1] - first;
-  const int row_count = pattern_start_[s + 1] - pattern_start_[s];
   Point* b = buffer_.data();
-  for (int q = (columns - 1) / kPanelWidth * kPanelWidth; q >= 0; q -= kPanelWidth) {
+  const int last_panel = (columns - 1) / kPanelWidth;
+  for (int q = last_panel * kPanelWidth, p = first_panel_[s] + last_panel; q >= 0;
+       q -= kPanelWidth, --p) {
     const int width = std::min(kPanelWidth, columns - q);
-    const Value* panel = values_.data() + value_start_[s] + panel_offset(q, row_count);
+    const Value* panel = values_.data() + panel_value_start_[p];
     const Value* below = panel + triangle_row(width);
+    const RowRun* runs_begin = nonzero_runs_.data() + run_start_[p];
+    const RowRun* runs_end = nonzero_runs_.data() + run_start_[p + 1];
     for (int j = width - 1; j >= 0; --j) {
       Point sum = b[q + j];
       for (int i = j + 1; i < width; ++i)
         sum -= static_cast<double>(panel[triangle_row(i) + j]) * b[q + i];
       const Value* entry = below + j;
-      // Two rows an iteration: fewer instructions for the loop, same sum.
+      for (const RowRun* run = runs_begin; run != runs_end; ++run) {
+        // Two rows an iteration: fewer instructions for the loop, same sum.
 #pragma GCC unroll 2
-      for (int i = q + width; i < row_count; ++i, entry += width)
-        sum -= static_cast<double>(*entry) * b[i];
+        for (int i = run->begin; i < run->end; ++i, entry += width)
+          sum -= static_cast<double>(*entry) * b[i];
+      }
       b[q + j] = sum * inverse_diagonal_[first + q + j];
     }
   }

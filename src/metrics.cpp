@@ -7,13 +7,11 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <iterator>
 #include <utility>
 
 #include "foldfill/error.h"
@@ -22,7 +20,6 @@ namespace foldfill {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 
 Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -112,6 +109,60 @@ std::vector<Triangle> nondegenerate_triangles(const std::vector<Vec3>& positions
   return triangles;
 }
 
+// The bounding box of a face with the face's index. The boxes are handled
+// through pointers, as PMP::self_intersections does, so that a box's
+// identity is its address.
+using FaceBox =
+    CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
+                                              CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
+
+// PMP::self_intersections's cutoff for box_self_intersection_d's recursion
+// (a speed setting: the pairs found do not depend on it).
+constexpr std::ptrdiff_t kBoxCutoff = 2000;
+
+std::vector<const FaceBox*> box_pointers(const std::vector<FaceBox>& boxes) {
+  std::vector<const FaceBox*> pointers;
+  pointers.reserve(boxes.size());
+  for (const FaceBox& box : boxes) pointers.push_back(&box);
+  return pointers;
+}
+
+// Whether the nondegenerate faces f and g of a manifold mesh intersect, by
+// PMP::self_intersections's rules (internal::do_faces_intersect), in terms
+// of vertex indices: faces sharing an edge intersect only when they are
+// coplanar and overlap (their third vertices on the same side of the edge);
+// faces sharing a vertex only when the edge of one opposite that vertex meets
+// the other; other faces when their triangles meet.
+bool faces_intersect(const std::vector<Vec3>& positions, const Tri& f, const Tri& g) {
+  auto has = [](const Tri& t, int v) { return t[0] == v || t[1] == v || t[2] == v; };
+  int shared = 0, f_shared = 0, f_own = 0, g_shared = 0, g_own = 0;  // corners
+  for (int k = 0; k < 3; ++k) {
+    if (has(g, f[k])) {
+      ++shared;
+      f_shared = k;
+    } else {
+      f_own = k;
+    }
+    (has(f, g[k]) ? g_shared : g_own) = k;
+  }
+  auto corner = [&](const Tri& t, int k) { return point(positions[t[k % 3]]); };
+  if (shared == 3) {
+    throw Error(ErrorKind::Internal, "self-intersection test: the faces do not form a manifold");
+  }
+  if (shared == 2) {
+    const Kernel::Point_3 a = corner(f, f_own + 1), b = corner(f, f_own + 2),
+                          f_third = corner(f, f_own), g_third = corner(g, g_own);
+    return CGAL::coplanar(a, b, f_third, g_third) &&
+           CGAL::coplanar_orientation(a, b, f_third, g_third) == CGAL::POSITIVE;
+  }
+  const Triangle f_triangle(corner(f, 0), corner(f, 1), corner(f, 2)),
+      g_triangle(corner(g, 0), corner(g, 1), corner(g, 2));
+  if (shared == 0) return CGAL::do_intersect(f_triangle, g_triangle);
+  const Kernel::Segment_3 f_opposite(corner(f, f_shared + 1), corner(f, f_shared + 2)),
+      g_opposite(corner(g, g_shared + 1), corner(g, g_shared + 2));
+  return CGAL::do_intersect(f_triangle, g_opposite) || CGAL::do_intersect(g_triangle, f_opposite);
+}
+
 }  // namespace
 
 CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
@@ -143,27 +194,39 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
   return stats;
 }
 
+// The pairs PMP::self_intersections would find on the mesh, without building
+// it (the faces must form a manifold, as a fill's domain does; only a face
+// given twice is caught), and only those with a counted face: the strip's own
+// pairs are never looked at.
 int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                              int counted_from) {
-  SurfaceMesh mesh;
-  std::vector<SurfaceMesh::Vertex_index> vertex(positions.size());
-  for (size_t v = 0; v < positions.size(); ++v) {
-    vertex[v] = mesh.add_vertex(Kernel::Point_3(positions[v][0], positions[v][1], positions[v][2]));
-  }
-  std::vector<int> face_index;  // CGAL face -> our face
-  for (size_t f = 0; f < faces.size(); ++f) {
-    const auto added = mesh.add_face(vertex[faces[f][0]], vertex[faces[f][1]], vertex[faces[f][2]]);
-    if (added == SurfaceMesh::null_face()) {
-      throw Error(ErrorKind::Internal, "self-intersection test: the faces do not form a manifold");
-    }
-    face_index.push_back(static_cast<int>(f));
-  }
-  std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
-  CGAL::Polygon_mesh_processing::self_intersections(mesh, std::back_inserter(pairs));
+  const int face_count = static_cast<int>(faces.size());
+  counted_from = std::clamp(counted_from, 0, face_count);
   int count = 0;
-  for (const auto& [a, b] : pairs) {
-    count += face_index[a.idx()] >= counted_from || face_index[b.idx()] >= counted_from;
+  std::vector<FaceBox> uncounted_boxes, counted_boxes;
+  for (int f = 0; f < face_count; ++f) {
+    const Kernel::Point_3 p = point(positions[faces[f][0]]), q = point(positions[faces[f][1]]),
+                          r = point(positions[faces[f][2]]);
+    // PMP::self_intersections reports a degenerate face as intersecting
+    // itself and tests it against no other.
+    if (CGAL::collinear(p, q, r)) {
+      count += f >= counted_from;
+    } else {
+      (f < counted_from ? uncounted_boxes : counted_boxes)
+          .emplace_back(p.bbox() + q.bbox() + r.bbox(), f);
+    }
   }
+  // Reordered by the box intersection.
+  std::vector<const FaceBox*> uncounted = box_pointers(uncounted_boxes),
+                              counted = box_pointers(counted_boxes);
+  auto count_if_intersecting = [&](const FaceBox* a, const FaceBox* b) {
+    count += faces_intersect(positions, faces[a->info()], faces[b->info()]);
+  };
+  // Every pair with a counted face, each once: counted with counted, then
+  // counted with the others (never the others among themselves).
+  CGAL::box_self_intersection_d(counted.begin(), counted.end(), count_if_intersecting, kBoxCutoff);
+  CGAL::box_intersection_d(counted.begin(), counted.end(), uncounted.begin(), uncounted.end(),
+                           count_if_intersecting, kBoxCutoff);
   return count;
 }
 

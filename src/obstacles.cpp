@@ -245,6 +245,30 @@ double cylinder_distance(const Obstacle& cylinder, const Vec3& p) {
   return std::max(side, cap);
 }
 
+// The unit vector along `v`, or (0, 0, 0) for the zero vector.
+Vec3 direction_or_zero(const Vec3& v) {
+  const double length = norm(v);
+  return length > 0 ? scaled(v, 1 / length) : Vec3{0, 0, 0};
+}
+
+// The gradient of cylinder_distance: the radial direction beside the side,
+// the axis' direction beyond a cap, their blend by hypot's gradient off the
+// rim, and inside the direction of the nearer of side and caps.
+Vec3 cylinder_normal(const Obstacle& cylinder, const Vec3& p) {
+  const AxialSplit s = split(cylinder, p);
+  const double rho = norm(s.radial);
+  const double side = rho - cylinder.radius;
+  const double cap = std::abs(s.t) - 0.5 * cylinder.height;
+  const Vec3 radial = rho > 0 ? scaled(s.radial, 1 / rho) : Vec3{0, 0, 0};
+  const double axial_sign = s.t > 0 ? 1.0 : s.t < 0 ? -1.0 : 0.0;
+  const Vec3 axial = scaled(cylinder.axis, axial_sign);
+  if (side > 0 && cap > 0) {
+    const double rim = std::hypot(side, cap);
+    return add(scaled(radial, side / rim), scaled(axial, cap / rim));
+  }
+  return side >= cap ? radial : axial;
+}
+
 Vec3 nearest_on_sphere(const Obstacle& sphere, const Vec3& p) {
   const Vec3 d = sub(p, sphere.center);
   const double length = norm(d);
@@ -301,6 +325,41 @@ double signed_distance(const Obstacle& obstacle, const Vec3& p) {
       return dot(sub(p, obstacle.center), obstacle.normal);
   }
   return 0;
+}
+
+Vec3 outward_normal(const Obstacle& obstacle, const Vec3& p) {
+  switch (obstacle.type) {
+    case Obstacle::Type::Sphere:
+      return direction_or_zero(sub(p, obstacle.center));
+    case Obstacle::Type::Cylinder:
+      return cylinder_normal(obstacle, p);
+    case Obstacle::Type::Plane:
+      return obstacle.normal;
+  }
+  return {0, 0, 0};
+}
+
+bool farther_than(const Obstacle& obstacle, const Vec3& p, double gap) {
+  // The thresholds are grown by a hair, so that rounding here and in
+  // signed_distance cannot disagree.
+  const double grown = 1 + 1e-6;
+  const Vec3 d = sub(p, obstacle.center);
+  switch (obstacle.type) {
+    case Obstacle::Type::Sphere: {
+      const double reach = grown * (obstacle.radius + gap);
+      return dot(d, d) > reach * reach;
+    }
+    case Obstacle::Type::Cylinder: {
+      // Beside the side or beyond a cap: either one alone bounds the distance.
+      const double t = dot(d, obstacle.axis);
+      const double side_reach = grown * (obstacle.radius + gap);
+      return dot(d, d) - t * t > side_reach * side_reach ||
+             std::abs(t) > grown * (0.5 * obstacle.height + gap);
+    }
+    case Obstacle::Type::Plane:
+      return dot(d, obstacle.normal) > grown * gap;
+  }
+  return false;
 }
 
 bool push_outside(const Obstacle& obstacle, Vec3& p) {

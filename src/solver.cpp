@@ -63,6 +63,7 @@
 
 #include "coordinate_cholesky.h"
 #include "foldfill/error.h"
+#include "lbfgs_recursion.h"
 
 namespace foldfill {
 namespace {
@@ -115,31 +116,29 @@ double rms_gradient(const VectorXd& gradient) {
 Eigen::Map<Coordinates> per_vertex(VectorXd& v) { return {v.data(), v.size() / 3, 3}; }
 Eigen::Map<const Coordinates> per_vertex(const VectorXd& v) { return {v.data(), v.size() / 3, 3}; }
 
+Vec3 vertex(const VectorXd& x, Eigen::Index offset) {
+  return {x[offset], x[offset + 1], x[offset + 2]};
+}
+
+Eigen::Vector3d surface_normal(const Obstacle& obstacle, const Vec3& p) {
+  const Vec3 normal = outward_normal(obstacle, p);
+  return {normal[0], normal[1], normal[2]};
+}
+
+// The obstacle helpers below test farther_than before the exact distance
+// and the normal: on sim2 (two cylinders and a sphere) they were 16% of the
+// fill.
+
 // Projects every free vertex outside every obstacle.
 void project_outside(const std::vector<Obstacle>& obstacles, VectorXd& x) {
   if (obstacles.empty()) return;
   for (Eigen::Index v = 0; v + 2 < x.size(); v += 3) {
-    Vec3 p{x[v], x[v + 1], x[v + 2]};
-    for (const Obstacle& obstacle : obstacles) push_outside(obstacle, p);
-    x[v] = p[0];
-    x[v + 1] = p[1];
-    x[v + 2] = p[2];
+    Vec3 p = vertex(x, v);
+    bool moved = false;
+    for (const Obstacle& obstacle : obstacles)
+      if (!farther_than(obstacle, p, 0)) moved = push_outside(obstacle, p) || moved;
+    if (moved) x.segment<3>(v) = Eigen::Vector3d(p[0], p[1], p[2]);
   }
-}
-
-// The outward unit normal of `obstacle` at `p`, by central differences of
-// its signed distance.
-Eigen::Vector3d outward_normal(const Obstacle& obstacle, const Vec3& p) {
-  const double h = 1e-6;
-  Eigen::Vector3d normal;
-  for (int a = 0; a < 3; ++a) {
-    Vec3 plus = p, minus = p;
-    plus[a] += h;
-    minus[a] -= h;
-    normal[a] = signed_distance(obstacle, plus) - signed_distance(obstacle, minus);
-  }
-  const double length = normal.norm();
-  return length > 0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
 }
 
 // Limits the part of the displacement `motion` that goes into an obstacle:
@@ -152,12 +151,14 @@ Eigen::Vector3d outward_normal(const Obstacle& obstacle, const Vec3& p) {
 void stop_at_obstacles(const std::vector<Obstacle>& obstacles, const VectorXd& x,
                        VectorXd& motion) {
   for (Eigen::Index v = 0; v + 2 < x.size(); v += 3) {
-    const Vec3 p{x[v], x[v + 1], x[v + 2]};
+    const Vec3 p = vertex(x, v);
     auto move = motion.segment<3>(v);
     for (const Obstacle& obstacle : obstacles) {
+      const double length = move.norm();
+      if (farther_than(obstacle, p, length)) continue;
       const double clearance = std::max(signed_distance(obstacle, p), 0.0);
-      if (!(clearance < move.norm())) continue;  // cannot reach the surface
-      const Eigen::Vector3d normal = outward_normal(obstacle, p);
+      if (!(clearance < length)) continue;  // cannot reach the surface
+      const Eigen::Vector3d normal = surface_normal(obstacle, p);
       const double inward = normal.dot(move);
       if (inward < -clearance) move += (-clearance - inward) * normal;
     }
@@ -182,11 +183,12 @@ void reduce_gradient(const std::vector<Obstacle>& obstacles, const VectorXd& x,
   reduced = gradient;
   contacts.clear();
   for (Eigen::Index v = 0; v + 2 < x.size(); v += 3) {
-    const Vec3 p{x[v], x[v + 1], x[v + 2]};
+    const Vec3 p = vertex(x, v);
     for (const Obstacle& obstacle : obstacles) {
+      if (farther_than(obstacle, p, reach)) continue;
       const double clearance = signed_distance(obstacle, p);
       if (!(clearance < reach)) continue;
-      const Eigen::Vector3d normal = outward_normal(obstacle, p);
+      const Eigen::Vector3d normal = surface_normal(obstacle, p);
       const double pressing = normal.dot(reduced.segment<3>(v));  // > 0: -gradient points in
       if (pressing > 0) {
         reduced.segment<3>(v) -= pressing * normal;
@@ -341,11 +343,6 @@ class Lbfgs final : public Stepper {
   }
 
  private:
-  struct CurvaturePair {
-    VectorXd s, y, preconditioned_y;  // x and gradient changes, P^-1 y
-    double rho = 0;                   // 1 / (y . s)
-  };
-
   // result = P^-1 v.
   void solve(const VectorXd& v, VectorXd& result) const {
     result.resize(v.size());
@@ -362,29 +359,17 @@ class Lbfgs final : public Stepper {
     return !contacts.empty();
   }
 
-  // direction_ = -H g (g the reduced gradient) by the two-loop recursion with
-  // gamma P^-1 as the initial inverse Hessian, where P^-1 q = z - sum alpha_k
-  // P^-1 y_k. Falls back to -P^-1 g (dropping the pairs) when the result is
-  // not a descent direction.
+  // direction_ = -H g (g the reduced gradient) by two_loop_recursion. Falls
+  // back to -P^-1 g (dropping the pairs) when the result is not a descent
+  // direction.
   void search_direction() {
-    const int count = static_cast<int>(pairs_.size());
-    alpha_.resize(count);
-    q_ = reduced_;
-    direction_ = preconditioned_;
-    for (int m = count; m-- > 0;) {
-      const CurvaturePair& pair = pairs_[m];
-      alpha_[m] = pair.rho * pair.s.dot(q_);
-      q_ -= alpha_[m] * pair.y;
-      direction_ -= alpha_[m] * pair.preconditioned_y;
+    if (pairs_.empty()) {
+      direction_ = -preconditioned_;
+      return;
     }
-    if (count > 0) direction_ *= gamma_;
-    for (int m = 0; m < count; ++m) {
-      const CurvaturePair& pair = pairs_[m];
-      const double beta = pair.rho * pair.y.dot(direction_);
-      direction_ += (alpha_[m] - beta) * pair.s;
-    }
-    direction_ = -direction_;
-    if (count > 0 && !(direction_.dot(reduced_) < 0)) {
+    const double slope =
+        two_loop_recursion(pairs_, gamma_, reduced_, preconditioned_, alpha_, q_, direction_);
+    if (!(slope < 0)) {
       pairs_.clear();
       direction_ = -preconditioned_;
     }

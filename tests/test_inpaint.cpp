@@ -201,7 +201,8 @@ bool starts_with(const std::string& text, const std::string& prefix) {
   return text.rfind(prefix, 0) == 0;
 }
 
-// A hole whose patch has about 8,000 vertices (its minimisation takes seconds).
+// A hole whose patch has about 8,000 vertices (its minimisation takes about
+// 0.3 s on the 2-core development machine).
 CutMesh big_hole() {
   FoldedSheetOptions options;
   options.width = 3;
@@ -215,7 +216,9 @@ CutMesh big_hole() {
 TEST(InpaintLimits, TimeLimitBoundsTheMinimisationOfABigPatch) {
   const CutMesh cut = big_hole();
   FillOptions options;
-  options.solver.time_limit_seconds = 0.3;
+  // A sixth of what the minimisation needs, so that a faster machine (or
+  // solver) still runs into it.
+  options.solver.time_limit_seconds = 0.05;
   const FillResult result = fill_default(cut.cut.mesh, options);
   const HoleReport& hole = result.report.holes.at(0);
   ASSERT_TRUE(hole.filled) << hole.reason;
@@ -223,7 +226,7 @@ TEST(InpaintLimits, TimeLimitBoundsTheMinimisationOfABigPatch) {
   EXPECT_EQ(hole.stop_reason, "time_limit");
   // Loose: the energy's set-up and the final checks run outside the solver's
   // clock, and sanitizer builds or a loaded CI machine run them slower.
-  EXPECT_LT(hole.seconds.optimize, 10 * options.solver.time_limit_seconds);
+  EXPECT_LT(hole.seconds.optimize, 20 * options.solver.time_limit_seconds);
   EXPECT_LE(hole.energy_final.total, hole.energy_after_arap.total);
 }
 

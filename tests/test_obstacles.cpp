@@ -1,5 +1,5 @@
-// Obstacles: parsing of both formats, malformed input, signed distances and
-// projection to the surface.
+// Obstacles: parsing of both formats, malformed input, signed distances,
+// outward normals, the cheap distance test and projection to the surface.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -268,6 +268,97 @@ TEST(PushOutside, LeavesOutsidePointsAlone) {
     EXPECT_FALSE(push_outside(o, p));
     EXPECT_EQ(p, start);
   }
+}
+
+// The outward normal by central differences of the signed distance (the
+// solver's former normal): (0, 0, 0) where the differences cancel.
+Vec3 finite_difference_normal(const Obstacle& o, const Vec3& p) {
+  const double h = 1e-6;
+  Vec3 normal;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 plus = p, minus = p;
+    plus[a] += h;
+    minus[a] -= h;
+    normal[a] = signed_distance(o, plus) - signed_distance(o, minus);
+  }
+  const double length = std::hypot(normal[0], normal[1], normal[2]);
+  if (length > 0)
+    for (double& c : normal) c /= length;
+  return normal;
+}
+
+TEST(OutwardNormal, MatchesFiniteDifferencesOfTheSignedDistance) {
+  const double s = 1 / std::sqrt(3.0);
+  // Axis along z, radius 1, from z = -2 to z = 2, and the same tilted and moved.
+  const std::vector<Obstacle> cylinders = {cylinder({0, 0, 0}, 1, 4, {0, 0, 1}),
+                                           cylinder({0.3, 0.1, -0.2}, 1, 4, {s, s, s})};
+  // In the upright cylinder's frame: beside the side, beyond a cap, off the
+  // rims, on the surface, inside near the side and near each cap.
+  const std::vector<Vec3> local = {
+      {3, 0.5, 0.2},   {0.3, -0.2, 5}, {0.2, 0.4, -3.5}, {4, 0, 6},        {-0.8, 1.1, -2.7},
+      {0.6, 0.8, 0.4}, {0.3, 0.1, 2},  {0.7, 0.2, -0.5}, {0.1, 0.2, 1.95}, {-0.2, 0.1, -1.9}};
+  for (const Obstacle& c : cylinders) {
+    // A frame (u, v, axis) for the tilted cylinder; the identity for the upright one.
+    const Vec3 u =
+        c.axis[2] == 1 ? Vec3{1, 0, 0} : Vec3{1 / std::sqrt(2.0), -1 / std::sqrt(2.0), 0};
+    const Vec3 v{c.axis[1] * u[2] - c.axis[2] * u[1], c.axis[2] * u[0] - c.axis[0] * u[2],
+                 c.axis[0] * u[1] - c.axis[1] * u[0]};
+    for (const Vec3& l : local) {
+      Vec3 p;
+      for (int k = 0; k < 3; ++k) p[k] = c.center[k] + l[0] * u[k] + l[1] * v[k] + l[2] * c.axis[k];
+      expect_near(outward_normal(c, p), finite_difference_normal(c, p), 1e-6);
+    }
+  }
+  const Obstacle ball = sphere({1, -2, 0.5}, 1.5);
+  for (const Vec3& p : std::vector<Vec3>{{3, 1, 2}, {1.2, -2.3, 0.9}, {1, -0.5, 0.5}})
+    expect_near(outward_normal(ball, p), finite_difference_normal(ball, p), 1e-6);
+  const Obstacle wall = plane({0, 0, 1}, {0.6, 0, 0.8});
+  for (const Vec3& p : std::vector<Vec3>{{5, 7, 3}, {5, 7, -1}})
+    expect_near(outward_normal(wall, p), finite_difference_normal(wall, p), 1e-9);
+}
+
+TEST(OutwardNormal, ZeroWhereTheNearestSurfaceHasNoDirection) {
+  const Vec3 zero{0, 0, 0};
+  const Obstacle ball = sphere({1, -2, 0.5}, 1.5);
+  expect_near(outward_normal(ball, {1, -2, 0.5}), zero, 0);
+  // On the axis of a long cylinder, where the side is nearest.
+  const Obstacle tall = cylinder({0, 0, 0}, 1, 4, {0, 0, 1});
+  const Vec3 on_axis{0, 0, 0.5};
+  expect_near(outward_normal(tall, on_axis), zero, 0);
+  expect_near(finite_difference_normal(tall, on_axis), zero, 0);
+  // On the mid-plane of a flat cylinder, where the caps are nearest.
+  const Obstacle flat = cylinder({0, 0, 0}, 2, 1, {0, 0, 1});
+  const Vec3 mid_plane{0.3, 0.4, 0};
+  expect_near(outward_normal(flat, mid_plane), zero, 0);
+  expect_near(finite_difference_normal(flat, mid_plane), zero, 0);
+}
+
+TEST(FartherThan, OnlyWhereTheSignedDistanceExceedsTheGap) {
+  const double s = 1 / std::sqrt(2.0);
+  const std::vector<Obstacle> obstacles = {sphere({1, 2, 3}, 0.8),
+                                           cylinder({0.5, 0, -1}, 0.4, 2.5, {s, 0, s}),
+                                           plane({0, 1, 0}, {0, s, -s})};
+  for (const Obstacle& o : obstacles) {
+    int farther = 0;
+    // Points on a grid around the obstacle, inside and out.
+    for (int i = -6; i <= 6; ++i)
+      for (int j = -6; j <= 6; ++j)
+        for (int k = -6; k <= 6; ++k) {
+          const Vec3 p{o.center[0] + 0.3 * i, o.center[1] + 0.3 * j, o.center[2] + 0.3 * k};
+          for (double gap : {0.0, 0.1, 0.5}) {
+            if (!farther_than(o, p, gap)) continue;
+            ++farther;
+            EXPECT_GT(signed_distance(o, p), gap);
+          }
+        }
+    EXPECT_GT(farther, 1000);  // of 6591
+  }
+  // Points well beside a cylinder's side or beyond its caps pass the test.
+  const Obstacle c = cylinder({0, 0, 0}, 1, 4, {0, 0, 1});
+  EXPECT_TRUE(farther_than(c, {1.2, 0, 1.9}, 0.1));
+  EXPECT_TRUE(farther_than(c, {0, 0.9, -2.2}, 0.1));
+  EXPECT_FALSE(farther_than(c, {1.05, 0, 0}, 0.1));
+  EXPECT_FALSE(farther_than(c, {0.5, 0, 0}, 0));
 }
 
 TEST(Normalized, KeepsTheSignedDistanceConsistent) {

@@ -117,6 +117,52 @@ TEST(VerticesWithinRings, GrowsRingByRing) {
   EXPECT_THROW(vertices_within_rings(7, fan, {7}, 1), Error);
 }
 
+// count_self_intersections follows PMP::self_intersections's rules (its
+// former implementation ran PMP over the whole mesh; the answers below are
+// PMP's). The triangle (0,0,0), (2,0,0), (0,2,0) is face {0, 1, 2}.
+std::vector<Vec3> with_right_triangle(std::vector<Vec3> others) {
+  others.insert(others.begin(), {Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{0, 2, 0}});
+  return others;
+}
+
+TEST(SelfIntersections, NeighboursAcrossAnEdgeIntersectOnlyFoldedFlatOntoEachOther) {
+  const std::vector<Tri> faces{{0, 1, 2}, {1, 0, 3}};
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{1, 1, 0}}), faces), 1);
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{1, -1, 0}}), faces), 0);
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{1, 1, 1e-9}}), faces), 0);
+}
+
+TEST(SelfIntersections, NeighboursAtAVertexIntersectWhereAnOppositeEdgeMeetsTheOther) {
+  const std::vector<Tri> faces{{0, 1, 2}, {0, 3, 4}};
+  // The edge 3-4 pierces face 0, or face 0's edge 1-2 pierces face 1.
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{0.5, 0.5, -1}, {0.5, 0.5, 1}}), faces),
+            1);
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{2, 2, -1}, {2, 2, 1}}), faces), 1);
+  // Touching at the shared vertex only; coplanar, along face 0's edge 0-1.
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{1, 0, 1}, {0, 1, 1}}), faces), 0);
+  EXPECT_EQ(count_self_intersections(with_right_triangle({{1, 0, 0}, {1, -1, 0}}), faces), 1);
+}
+
+TEST(SelfIntersections, CountsOnlyPairsWithACountedFace) {
+  // Faces 0 and 1 cross, face 2 is far from both.
+  const std::vector<Vec3> positions = with_right_triangle(
+      {{0.5, 0.5, -1}, {0.5, 0.5, 1}, {5, 5, 0}, {10, 0, 0}, {11, 0, 0}, {10, 1, 0}});
+  const std::vector<Tri> faces{{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  EXPECT_EQ(count_self_intersections(positions, faces, 0), 1);
+  EXPECT_EQ(count_self_intersections(positions, faces, 1), 1);
+  EXPECT_EQ(count_self_intersections(positions, faces, 2), 0);
+  EXPECT_EQ(count_self_intersections(positions, faces, 3), 0);
+}
+
+TEST(SelfIntersections, CountsEachDegenerateCountedFaceOnce) {
+  // Faces 1 and 2 are segments (collinear corners) through face 0.
+  const std::vector<Vec3> positions =
+      with_right_triangle({{0.5, 0.5, -1}, {0.5, 0.5, 1}, {0.5, 0.5, 0}, {0.5, 0.5, 0}});
+  const std::vector<Tri> faces{{0, 1, 2}, {3, 4, 5}, {5, 6, 3}};
+  EXPECT_EQ(count_self_intersections(positions, faces, 0), 2);
+  EXPECT_EQ(count_self_intersections(positions, faces, 2), 1);
+}
+
 // bench_quality's comparison, on one folded sheet whose hole spans a fold:
 // the truth is the uncut sheet.
 struct Figures {

@@ -183,6 +183,57 @@ TEST(Solver, ObstacleSphereKeepsFreeVerticesOutside) {
   EXPECT_LE(final_energy[1], 1.01 * final_energy[0]);
 }
 
+// A cylinder lying across the patch, its rim and one cap inside the start:
+// the solver's contacts see the side, the cap and the rim's normals.
+TEST(Solver, FastKeepsFreeVerticesOutsideACylinder) {
+  const Problem problem(14, 14);
+  Obstacle cylinder;
+  cylinder.type = Obstacle::Type::Cylinder;
+  cylinder.center = {0.4 * 13 + 2, 0.43 * 13, -1.0};
+  cylinder.radius = 1.5;
+  cylinder.height = 5;
+  cylinder.axis = {1, 0, 0};
+  int inside_at_start = 0;
+  for (int i = problem.domain.fixed_count; i < problem.domain.vertex_count(); ++i)
+    inside_at_start += signed_distance(cylinder, problem.start[i]) < 0;
+  ASSERT_GT(inside_at_start, 5);
+  SolverOptions options;
+  options.max_iterations = 3000;
+  double previous = std::numeric_limits<double>::infinity();
+  options.progress = [&](const SolverProgress& progress) {
+    EXPECT_LE(progress.energy, previous);
+    previous = progress.energy;
+    return true;
+  };
+  const SolverResult result = minimize_energy(problem.energy, {cylinder}, problem.start, options);
+  EXPECT_EQ(result.stop_reason, "converged");
+  for (int i = problem.domain.fixed_count; i < problem.domain.vertex_count(); ++i)
+    EXPECT_GE(signed_distance(cylinder, result.positions[i]), -1e-9) << i;
+}
+
+// The solver passes over vertices far from an obstacle by a bounding ball:
+// an obstacle out of every vertex's reach changes nothing.
+TEST(Solver, FarObstaclesLeaveTheResultUnchanged) {
+  const Problem problem(10, 10);
+  Obstacle sphere;
+  sphere.center = {0, 0, 40};
+  sphere.radius = 3;
+  Obstacle cylinder;
+  cylinder.type = Obstacle::Type::Cylinder;
+  cylinder.center = {0, 0, -40};
+  cylinder.radius = 2;
+  cylinder.height = 30;
+  for (SolverKind kind : kBothKinds) {
+    SolverOptions options = with_kind(kind);
+    options.max_iterations = 300;
+    const SolverResult alone = minimize_energy(problem.energy, {}, problem.start, options);
+    const SolverResult beside =
+        minimize_energy(problem.energy, {sphere, cylinder}, problem.start, options);
+    EXPECT_EQ(alone.iterations, beside.iterations);
+    EXPECT_EQ(alone.positions, beside.positions);
+  }
+}
+
 // A floppy patch (bending weight 0.0002, the default) on a sphere: many
 // vertices rest on it. Vertices pressed against an obstacle must slide
 // along it; when they kept the outward part of their moves, the quasi-Newton

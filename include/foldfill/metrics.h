@@ -21,7 +21,10 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
 
 // Number of pairs of triangles among `faces` that intersect (CGAL's exact
 // test: neighbours that only share their common vertex or edge do not count),
-// counting only pairs with at least one face of index >= `counted_from`.
+// counting only pairs with at least one face of index >= `counted_from`; a
+// degenerate face among those counts once. The count of CGAL's
+// Polygon_mesh_processing::self_intersections over all faces, without its
+// tests of pairs that are not counted.
 int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                              int counted_from = 0);
 

@@ -30,6 +30,18 @@ std::vector<Obstacle> read_obstacles(const std::string& path);
 // Signed distance from `p` to the obstacle's surface (negative inside).
 double signed_distance(const Obstacle& obstacle, const Vec3& p);
 
+// The outward unit normal of the obstacle's surface seen from `p`: the
+// gradient of signed_distance. (0, 0, 0) where that has no direction: a
+// sphere's centre, and inside a cylinder on its axis (where the side is
+// nearest) or on its mid-plane (where the caps are).
+Vec3 outward_normal(const Obstacle& obstacle, const Vec3& p);
+
+// Whether `p` is certainly farther than `gap` (>= 0) from the obstacle's
+// surface, by a test cheaper than signed_distance (no square root): true
+// only where signed_distance(obstacle, p) > gap, and false when in doubt
+// (near a cylinder's rims, within a hair of the distance `gap`).
+bool farther_than(const Obstacle& obstacle, const Vec3& p, double gap);
+
 // Moves `p` to the nearest point of the surface when it is inside; returns
 // whether it moved.
 bool push_outside(const Obstacle& obstacle, Vec3& p);
