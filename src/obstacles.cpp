@@ -237,10 +237,19 @@ AxialSplit split(const Obstacle& cylinder, const Vec3& p) {
   return {t, sub(d, scaled(cylinder.axis, t))};
 }
 
-double cylinder_distance(const Obstacle& cylinder, const Vec3& p) {
+// Signed distances of `p` from a cylinder's side (infinitely long) and from
+// the plane of its nearer cap, with the split they come from.
+struct CylinderGaps {
+  AxialSplit split;
+  double side, cap;
+};
+CylinderGaps gaps(const Obstacle& cylinder, const Vec3& p) {
   const AxialSplit s = split(cylinder, p);
-  const double side = norm(s.radial) - cylinder.radius;
-  const double cap = std::abs(s.t) - 0.5 * cylinder.height;
+  return {s, norm(s.radial) - cylinder.radius, std::abs(s.t) - 0.5 * cylinder.height};
+}
+
+double cylinder_distance(const Obstacle& cylinder, const Vec3& p) {
+  const auto [s, side, cap] = gaps(cylinder, p);
   if (side > 0 && cap > 0) return std::hypot(side, cap);  // nearest is the rim
   return std::max(side, cap);
 }
@@ -255,11 +264,8 @@ Vec3 direction_or_zero(const Vec3& v) {
 // the axis' direction beyond a cap, their blend by hypot's gradient off the
 // rim, and inside the direction of the nearer of side and caps.
 Vec3 cylinder_normal(const Obstacle& cylinder, const Vec3& p) {
-  const AxialSplit s = split(cylinder, p);
-  const double rho = norm(s.radial);
-  const double side = rho - cylinder.radius;
-  const double cap = std::abs(s.t) - 0.5 * cylinder.height;
-  const Vec3 radial = rho > 0 ? scaled(s.radial, 1 / rho) : Vec3{0, 0, 0};
+  const auto [s, side, cap] = gaps(cylinder, p);
+  const Vec3 radial = direction_or_zero(s.radial);
   const double axial_sign = s.t > 0 ? 1.0 : s.t < 0 ? -1.0 : 0.0;
   const Vec3 axial = scaled(cylinder.axis, axial_sign);
   if (side > 0 && cap > 0) {
