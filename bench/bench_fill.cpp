@@ -5,11 +5,12 @@
 // time against patch size on generated sheets. Prints markdown.
 //
 //   build/bench/bench_fill [--runs 5] [--gd-runs 1] [--gd-max-iterations 200000]
-//                          [--max-patch 100000] [--skip-gd] [--only NAME]
+//                          [--max-patch 100000] [--skip-gd] [--only NAME] [--threads 1]
 //
 // Reference cases use the prototype's weights and obstacles from cases.json
 // (the paper's setting: normalised gradient-descent step 0.05), cloth cases
-// the defaults. Times are of one hole on one thread; "fill" is the whole
+// the defaults. Times are of one hole on --threads threads (default 1: the
+// stages' parallel loops then run serially); "fill" is the whole
 // fill_holes call (reading the mesh excluded); "start" is ARAP, or for a
 // large patch the coarser levels of the coarse-to-fine start ("iters" are
 // then the finest level's). "lambda, rep." are the bending and repulsion
@@ -263,14 +264,14 @@ void print_scaling_table(int max_patch, int runs) {
 int usage() {
   std::fprintf(stderr,
                "usage: bench_fill [--runs N] [--gd-runs N] [--gd-max-iterations N] [--skip-gd] "
-               "[--max-patch N] [--only NAME]\n");
+               "[--max-patch N] [--only NAME] [--threads N]\n");
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int runs = 5, gd_runs = 1, gd_max_iterations = 200000, max_patch = 100000;
+  int runs = 5, gd_runs = 1, gd_max_iterations = 200000, max_patch = 100000, threads = 1;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -285,20 +286,22 @@ int main(int argc, char** argv) {
       gd_max_iterations = std::max(1, std::atoi(argv[++i]));
     } else if (flag == "--max-patch" && has_value) {
       max_patch = std::atoi(argv[++i]);
+    } else if (flag == "--threads" && has_value) {
+      threads = std::max(1, std::atoi(argv[++i]));
     } else if (flag == "--only" && has_value) {
       only = argv[++i];
     } else {
       return usage();
     }
   }
-  omp_set_num_threads(1);  // one hole per case: time the hole, not the thread pool
+  omp_set_num_threads(threads);  // one hole per case: its stages' loops share them
   const std::time_t now = std::time(nullptr);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d", std::localtime(&now));
   std::printf(
-      "# foldfill fill benchmark\n\n%s, %u hardware threads, one thread per fill; medians of %d "
+      "# foldfill fill benchmark\n\n%s, %u hardware threads, %d per fill; medians of %d "
       "runs (gradient descent: %d, at most %d iterations)\n\n",
-      date, std::thread::hardware_concurrency(), runs, gd_runs, gd_max_iterations);
+      date, std::thread::hardware_concurrency(), threads, runs, gd_runs, gd_max_iterations);
   const char* env = std::getenv("FOLDFILL_SHARED");
   const fs::path shared = env ? env : FOLDFILL_SHARED_DIR;
   if (fs::is_directory(shared / "data")) {

@@ -38,6 +38,11 @@ namespace {
 // keeps the system positive definite and changes nothing on Delaunay patches.
 constexpr double kMinCotanWeight = 1e-3;
 
+// The local step and the right-hand side are per-vertex sums, each on one
+// thread (so the result does not depend on the thread count); below this many
+// vertices a parallel loop costs more than it saves.
+constexpr int kSmallestParallelDomain = 2000;
+
 // The one-ring of every vertex as flat arrays (compressed rows): for the k-th
 // half-edge i -> neighbour[k], its weight w_ij and the weighted rest edge
 // vector w_ij (p_i - p_j) (the rest shape is planar: z = 0).
@@ -76,49 +81,65 @@ double cotangent(const Vec2& apex, const Vec2& a, const Vec2& b) {
   return cross > 0 ? dot / cross : 0.0;
 }
 
-// Half the sum of the cotangents of the angles facing each edge, clamped.
-Neighbourhoods build_neighbourhoods(const EmbedDomain& domain, double shrink) {
+// The half-edges of the domain's faces, grouped by their `from` vertex
+// (compressed rows: vertex i's are [start[i], start[i + 1])) and sorted by
+// their `to` vertex within a group; an interior edge comes twice in each
+// direction, once per face.
+struct HalfEdge {
+  int to;
+  double weight;  // half the cotangent of the angle facing it in its face
+};
+
+std::vector<HalfEdge> half_edges_by_vertex(const EmbedDomain& domain, std::vector<int>& start) {
   const int n = domain.vertex_count();
-  struct HalfEdge {
-    int from, to;
-    double weight;
-  };
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(6 * domain.faces.size());
+  start.assign(n + 1, 0);
+  for (const Tri& f : domain.faces)
+    for (int v : f) start[v + 1] += 2;
+  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<int> cursor(start.begin(), start.end() - 1);
+  std::vector<HalfEdge> half_edges(start[n]);
   for (const Tri& f : domain.faces) {
     for (int k = 0; k < 3; ++k) {
       const int i = f[(k + 1) % 3], j = f[(k + 2) % 3];
       const double w = 0.5 * cotangent(domain.rest_uv[f[k]], domain.rest_uv[i], domain.rest_uv[j]);
-      half_edges.push_back({i, j, w});
-      half_edges.push_back({j, i, w});
+      half_edges[cursor[i]++] = {j, w};
+      half_edges[cursor[j]++] = {i, w};
     }
   }
-  std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& a, const HalfEdge& b) {
-    return a.from != b.from ? a.from < b.from : a.to < b.to;
-  });
+  for (int i = 0; i < n; ++i)
+    std::sort(half_edges.begin() + start[i], half_edges.begin() + start[i + 1],
+              [](const HalfEdge& a, const HalfEdge& b) { return a.to < b.to; });
+  return half_edges;
+}
+
+// Half the sum of the cotangents of the angles facing each edge, clamped.
+Neighbourhoods build_neighbourhoods(const EmbedDomain& domain, double shrink) {
+  const int n = domain.vertex_count();
+  std::vector<int> start;
+  const std::vector<HalfEdge> half_edges = half_edges_by_vertex(domain, start);
 
   Neighbourhoods hood;
   hood.offset.assign(n + 1, 0);
+  hood.neighbour.reserve(half_edges.size() / 2);  // interior edges come twice
+  hood.weight.reserve(half_edges.size() / 2);
+  hood.weighted_rest_edge.reserve(half_edges.size() / 2);
   hood.weighted_rest_edge_sum.assign(n, Eigen::Vector2d::Zero());
   double length_sum = 0;
-  for (size_t k = 0; k < half_edges.size();) {
-    size_t end = k;
-    double w = 0;
-    for (; end < half_edges.size() && half_edges[end].from == half_edges[k].from &&
-           half_edges[end].to == half_edges[k].to;
-         ++end)
-      w += half_edges[end].weight;
-    const int i = half_edges[k].from, j = half_edges[k].to;
-    const Eigen::Vector2d rest_edge(domain.rest_uv[i][0] - domain.rest_uv[j][0],
-                                    domain.rest_uv[i][1] - domain.rest_uv[j][1]);
-    const double clamped = std::max(w, kMinCotanWeight);
-    hood.neighbour.push_back(j);
-    hood.weight.push_back(clamped);
-    hood.weighted_rest_edge.push_back(clamped * shrink * rest_edge);
-    hood.weighted_rest_edge_sum[i] += hood.weighted_rest_edge.back();
-    length_sum += rest_edge.norm();
-    ++hood.offset[i + 1];
-    k = end;
+  for (int i = 0; i < n; ++i) {
+    for (int k = start[i]; k < start[i + 1];) {
+      const int j = half_edges[k].to;
+      double w = 0;  // the edge's one or two half-weights (a + b rounds as b + a)
+      for (; k < start[i + 1] && half_edges[k].to == j; ++k) w += half_edges[k].weight;
+      const Eigen::Vector2d rest_edge(domain.rest_uv[i][0] - domain.rest_uv[j][0],
+                                      domain.rest_uv[i][1] - domain.rest_uv[j][1]);
+      const double clamped = std::max(w, kMinCotanWeight);
+      hood.neighbour.push_back(j);
+      hood.weight.push_back(clamped);
+      hood.weighted_rest_edge.push_back(clamped * shrink * rest_edge);
+      hood.weighted_rest_edge_sum[i] += hood.weighted_rest_edge.back();
+      length_sum += rest_edge.norm();
+      ++hood.offset[i + 1];
+    }
   }
   for (int i = 0; i < n; ++i) hood.offset[i + 1] += hood.offset[i];
   hood.mean_rest_edge_length = hood.neighbour.empty() ? 0 : length_sum / hood.neighbour.size();
@@ -199,7 +220,10 @@ Frame polar_factor(const Frame& c) {
 // that best fits its weighted one-ring, from C_i = sum_j (x_i - x_j) e_ij^T
 // = x_i (sum_j e_ij)^T - sum_j x_j e_ij^T, e_ij = w_ij (p_i - p_j).
 void fit_rotations(const Neighbourhoods& hood, const Points& x, std::vector<Frame>& frames) {
-  for (int i : hood.rotated) {
+  const int count = static_cast<int>(hood.rotated.size());
+#pragma omp parallel for schedule(static) if (count >= kSmallestParallelDomain)
+  for (int r = 0; r < count; ++r) {
+    const int i = hood.rotated[r];
     Frame neighbours = Frame::Zero();
     for (int k = hood.offset[i]; k < hood.offset[i + 1]; ++k)
       neighbours.noalias() +=
@@ -250,7 +274,9 @@ double solve_positions(const EmbedDomain& domain, const Neighbourhoods& hood,
                        Points& x) {
   const int fixed = domain.fixed_count;
   next = system.fixed_rhs;
-  for (int i = fixed; i < domain.vertex_count(); ++i) {
+  const int count = domain.vertex_count();
+#pragma omp parallel for schedule(static) if (count - fixed >= kSmallestParallelDomain)
+  for (int i = fixed; i < count; ++i) {
     Eigen::Vector3d sum = frames[i] * hood.weighted_rest_edge_sum[i];
     for (int k = hood.offset[i]; k < hood.offset[i + 1]; ++k)
       sum.noalias() += frames[hood.neighbour[k]] * hood.weighted_rest_edge[k];
