@@ -1,6 +1,7 @@
 // ARAP initialisation on hand-built domains: a triangular lattice whose two
 // outer rings are the fixed strip, placed in 3D by a known map.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -204,6 +205,21 @@ TEST(Arap, StopsAtTheCap) {
 TEST(Arap, IsDeterministic) {
   const EmbedDomain domain = lattice_domain(10, 9, onto_cylinder(2.0));
   EXPECT_EQ(arap_embed(domain, {0.5, 20}), arap_embed(domain, {0.5, 20}));
+}
+
+// Large enough for the parallel local step and right-hand side (5,776 free
+// vertices, over arap.cpp's kSmallestParallelDomain).
+TEST(Arap, GivesTheSameBitsWhateverTheThreadCount) {
+  const EmbedDomain domain = lattice_domain(80, 80, onto_cylinder(20.0));
+  ASSERT_GE(domain.free_count(), 5000);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::vector<Vec3> serial = arap_embed(domain, {0.5, 8});
+  for (int count : {2, 3}) {
+    omp_set_num_threads(count);
+    EXPECT_EQ(arap_embed(domain, {0.5, 8}), serial) << count << " threads";
+  }
+  omp_set_num_threads(threads);
 }
 
 TEST(Arap, RejectsInconsistentDomains) {
