@@ -6,6 +6,7 @@
 //
 //   build/bench/bench_fill [--runs 5] [--gd-runs 1] [--gd-max-iterations 200000]
 //                          [--max-patch 100000] [--skip-gd] [--only NAME] [--threads 1]
+//                          [--multilevel-from 1000]
 //
 // Reference cases use the prototype's weights and obstacles from cases.json
 // (the paper's setting: normalised gradient-descent step 0.05), cloth cases
@@ -13,7 +14,8 @@
 // stages' parallel loops then run serially); "fill" is the whole
 // fill_holes call (reading the mesh excluded); "start" is ARAP, or for a
 // large patch the coarser levels of the coarse-to-fine start ("iters" are
-// then the finest level's). "lambda, rep." are the bending and repulsion
+// then the finest level's; --multilevel-from sets the patch size from which
+// it is used, to measure that threshold). "lambda, rep." are the bending and repulsion
 // weights the result was minimised with: a self-intersecting result is
 // minimised again with a stiffer bending weight (and a repulsion of at least
 // 1), then relaxed back to the weight asked for if it stays clean there
@@ -225,7 +227,7 @@ void print_case_table(const std::vector<Case>& cases, int runs, int gd_runs,
 // Time against patch size: a folded sheet whose resolution grows, with a hole
 // of fixed size, so the patch has about `target` vertices. Each size is also
 // filled from ARAP alone (the coarse-to-fine start off), the baseline.
-void print_scaling_table(int max_patch, int runs) {
+void print_scaling_table(int max_patch, int runs, int multilevel_from) {
   std::printf(
       "\n| target patch verts | patch verts | loop verts | flatten ms | triangulate ms | start ms "
       "| optimize ms | fill ms | iters | us per patch vert | single-level fill ms | single-level "
@@ -245,6 +247,7 @@ void print_scaling_table(int max_patch, int runs) {
     c.mesh = cut_disk_hole(make_folded_sheet(sheet), {1.9, 1.2}, radius).cut.mesh;
     c.loops = find_boundary_loops(c.mesh);
     c.hole = select_holes(c.loops, HoleSelection{}).fill.at(0);
+    c.options.multilevel.min_patch_vertices = multilevel_from;
     const int size_runs = target >= 30000 ? 1 : runs;
     const Timing t = time_fill(c, c.options, size_runs);
     FillOptions single_level = c.options;
@@ -264,7 +267,7 @@ void print_scaling_table(int max_patch, int runs) {
 int usage() {
   std::fprintf(stderr,
                "usage: bench_fill [--runs N] [--gd-runs N] [--gd-max-iterations N] [--skip-gd] "
-               "[--max-patch N] [--only NAME] [--threads N]\n");
+               "[--max-patch N] [--only NAME] [--threads N] [--multilevel-from N]\n");
   return 2;
 }
 
@@ -272,6 +275,7 @@ int usage() {
 
 int main(int argc, char** argv) {
   int runs = 5, gd_runs = 1, gd_max_iterations = 200000, max_patch = 100000, threads = 1;
+  int multilevel_from = MultilevelOptions{}.min_patch_vertices;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -288,6 +292,8 @@ int main(int argc, char** argv) {
       max_patch = std::atoi(argv[++i]);
     } else if (flag == "--threads" && has_value) {
       threads = std::max(1, std::atoi(argv[++i]));
+    } else if (flag == "--multilevel-from" && has_value) {
+      multilevel_from = std::atoi(argv[++i]);
     } else if (flag == "--only" && has_value) {
       only = argv[++i];
     } else {
@@ -313,11 +319,12 @@ int main(int argc, char** argv) {
         std::remove_if(cases.begin(), cases.end(),
                        [&](const Case& c) { return c.name.find(only) == std::string::npos; }),
         cases.end());
+    for (Case& c : cases) c.options.multilevel.min_patch_vertices = multilevel_from;
     print_case_table(cases, runs, gd_runs, gd_max_iterations);
   } else {
     std::printf("shared data not found at %s: skipping the reference and cloth cases\n",
                 shared.c_str());
   }
-  if (only.empty() || only == "sheet") print_scaling_table(max_patch, runs);
+  if (only.empty() || only == "sheet") print_scaling_table(max_patch, runs, multilevel_from);
   return 0;
 }

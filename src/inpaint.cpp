@@ -156,10 +156,12 @@ Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& star
 // while it only has to find its finer folds; if it intersects (or diverges)
 // all the same, the stiffer result is kept. report.lambda says which bending
 // weight the patch finally has, report.stiffened_retries how many stiffer
-// minimisations it took. The time limit covers them all.
+// minimisations it took (at most `stiffening_steps`). The time limit covers
+// them all.
 Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& initial,
                          const EnergyOptions& energy_options, const SolverOptions& solver,
-                         const std::vector<Obstacle>& obstacles, HoleReport& report) {
+                         const std::vector<Obstacle>& obstacles, HoleReport& report,
+                         int stiffening_steps = kStiffeningSteps) {
   const auto start = Clock::now();
   const double deadline = solver.time_limit_seconds;
   const auto out_of_time = [&] { return deadline > 0 && seconds_since(start) >= deadline; };
@@ -192,7 +194,7 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     repulsion = EnergyOptions{}.repulsion;
     result = minimise(initial, lambda, repulsion);
   }
-  while (may_retry() && report.stiffened_retries < kStiffeningSteps) {
+  while (may_retry() && report.stiffened_retries < stiffening_steps) {
     lambda = std::max(lambda * kStiffening, kSmallestStiffenedLambda);
     result = minimise(initial, lambda, repulsion);
     ++report.stiffened_retries;
@@ -206,6 +208,28 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
   if (relaxed_is_better || cancelled(relaxed))
     return finish(std::move(relaxed), energy_options.lambda, repulsion);
   return finish(std::move(result), lambda, repulsion);
+}
+
+// A coarse level of the coarse-to-fine start (multilevel.h) only has to hand
+// the finer level its large folds, untangled; nothing when it cannot. It is
+// minimised as a patch is (minimise_patch), but at once with at least the
+// default repulsion, which the retries would raise it to, and stiffened at
+// most once: that untangles Contour's coarse level, while the Curtain's stays
+// tangled through all four steps (its folds are too tight for the coarse
+// triangles; the fine patch untangles at the default repulsion), and the
+// finer level does better from ARAP than after more retries.
+std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
+                                                       const std::vector<Vec3>& start,
+                                                       EnergyOptions energy_options,
+                                                       const SolverOptions& solver,
+                                                       const std::vector<Obstacle>& obstacles) {
+  energy_options.repulsion = std::max(energy_options.repulsion, EnergyOptions{}.repulsion);
+  HoleReport level_report;  // the hole's report is the fine level's
+  Minimised minimised = minimise_patch(level, start, energy_options, solver, obstacles,
+                                       level_report, /*stiffening_steps=*/1);
+  if (minimised.solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, "cancelled");
+  if (minimised.self_intersections > 0) return std::nullopt;
+  return std::move(minimised.solved.positions);
 }
 
 bool all_finite(const std::vector<Vec3>& positions) {
@@ -277,18 +301,15 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
   const auto solver_for_level = [&] {
     return with_time_left(solver, solver.time_limit_seconds, minimisation_start);
   };
-  const auto minimise_coarse_level = [&](const EmbedDomain& level, const std::vector<Vec3>& from) {
-    HoleReport level_report;  // the hole's report is the fine level's
-    SolverResult solved =
-        minimise_patch(level, from, energy_options, solver_for_level(), obstacles, level_report)
-            .solved;
-    if (solved.stop_reason == "cancelled")
-      throw Error(ErrorKind::FillFailed, where + ": cancelled");
-    return std::move(solved.positions);
+  const auto minimise_level = [&](const EmbedDomain& level, const std::vector<Vec3>& from) {
+    return minimise_coarse_level(level, from, energy_options, solver_for_level(), obstacles);
   };
-  const std::vector<Vec3> initial =
-      multilevel_start(strip, flat, options.triangulate, domain, options.arap, options.multilevel,
-                       minimise_coarse_level);
+  // The coarse-to-fine start is the fast solver's: gradient descent follows
+  // the paper (ARAP, then descent), the reference the fast solver is held to.
+  MultilevelOptions multilevel = options.multilevel;
+  multilevel.enabled = multilevel.enabled && solver.kind == SolverKind::Fast;
+  const std::vector<Vec3> initial = multilevel_start(strip, flat, options.triangulate, domain,
+                                                     options.arap, multilevel, minimise_level);
   report.seconds.arap = seconds_since(stage);
 
   throw_if_cancelled(context, where);

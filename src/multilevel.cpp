@@ -171,7 +171,9 @@ std::vector<Vec3> multilevel_start(const Strip& strip, const Flattening& flat,
   if (coarse.free_count() >= domain.free_count()) return arap_embed(domain, arap);
   const std::vector<Vec3> coarse_start =
       multilevel_start(strip, flat, coarser, coarse, arap, options, minimise);
-  std::vector<Vec3> start = interpolate_patch(coarse, minimise(coarse, coarse_start), domain);
+  const std::optional<std::vector<Vec3>> coarse_end = minimise(coarse, coarse_start);
+  if (!coarse_end) return arap_embed(domain, arap);
+  std::vector<Vec3> start = interpolate_patch(coarse, *coarse_end, domain);
   // Where the coarse patch folds tightly, a finer triangle across the fold
   // can cut through the next layer (the Curtain's hole at 2174 vertices from
   // 519: 51 pairs), and the minimisation cannot pull it back out.

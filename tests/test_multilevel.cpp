@@ -109,13 +109,22 @@ TEST(Multilevel, LevelsCoarsenDownToTheThreshold) {
   }
 }
 
+// A sheet's hole meshed at density 2, whose start has one coarser level.
+struct TwoLevels {
+  Hole hole{folded_sheet_with_hole(0.08).cut.mesh};
+  EmbedDomain domain = hole.domain(2);
+
+  std::vector<Vec3> start(const LevelMinimiser& minimise) const {
+    TriangulateOptions triangulate;
+    triangulate.density = 2;
+    MultilevelOptions options;
+    options.min_patch_vertices = domain.free_count();
+    return multilevel_start(hole.strip, hole.flat, triangulate, domain, {}, options, minimise);
+  }
+};
+
 TEST(Multilevel, ACoarseLevelFoldedThroughItselfGivesWayToArap) {
-  const Hole hole(folded_sheet_with_hole(0.08).cut.mesh);
-  TriangulateOptions triangulate;
-  triangulate.density = 2;
-  const EmbedDomain domain = hole.domain(triangulate.density);
-  MultilevelOptions options;
-  options.min_patch_vertices = domain.free_count();  // one coarser level
+  const TwoLevels levels;
   // The half u > 0 folded over onto the half u < 0, through it at u = 1.
   const auto fold_through = [](const EmbedDomain& level, const std::vector<Vec3>& start) {
     std::vector<Vec3> folded = start;
@@ -125,8 +134,18 @@ TEST(Multilevel, ACoarseLevelFoldedThroughItselfGivesWayToArap) {
     }
     return folded;
   };
-  EXPECT_EQ(multilevel_start(hole.strip, hole.flat, triangulate, domain, {}, options, fold_through),
-            arap_embed(domain));
+  EXPECT_EQ(levels.start(fold_through), arap_embed(levels.domain));
+}
+
+TEST(Multilevel, ACoarseLevelThatGivesNothingGivesWayToArap) {
+  const TwoLevels levels;
+  int minimised = 0;
+  const auto no_start = [&](const EmbedDomain&, const std::vector<Vec3>&) {
+    ++minimised;
+    return std::optional<std::vector<Vec3>>{};
+  };
+  EXPECT_EQ(levels.start(no_start), arap_embed(levels.domain));
+  EXPECT_EQ(minimised, 1);
 }
 
 TEST(Multilevel, RefusesACoarseningThatDoesNotCoarsen) {
@@ -165,6 +184,21 @@ TEST(Multilevel, FillEndsAtTheSingleLevelEnergy) {
   EXPECT_NEAR(multi.energy_final.total / one.energy_final.total, 1, 0.01);
   // The coarse levels put the patch near its minimum already.
   EXPECT_LT(multi.energy_after_arap.total, one.energy_after_arap.total);
+}
+
+// The paper's gradient descent is the reference for the fast solver: it
+// starts from ARAP whatever the multilevel options.
+TEST(Multilevel, GradientDescentStartsFromArap) {
+  const CutMesh cut = folded_sheet_with_hole(0.025);
+  FillOptions options = multilevel_fill();
+  options.solver.kind = SolverKind::GradientDescent;
+  options.solver.max_iterations = 5;
+  const FillResult multi = fill(cut.cut.mesh, options);
+  options.multilevel.enabled = false;
+  const FillResult single = fill(cut.cut.mesh, options);
+  ASSERT_TRUE(multi.report.holes.at(0).filled);
+  ASSERT_GT(multi.report.holes.at(0).patch_vertex_count, 900);
+  EXPECT_EQ(multi.mesh.positions, single.mesh.positions);
 }
 
 TEST(Multilevel, FillDoesNotDependOnTheThreadCount) {

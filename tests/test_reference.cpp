@@ -119,12 +119,25 @@ ReferenceCase case_named(const std::vector<ReferenceCase>& cases, const std::str
 }
 
 // Fills the hole of `c` with `options`.
-HoleReport fill_reference(const ReferenceCase& c, const FillOptions& options) {
+FillResult fill_reference_mesh(const ReferenceCase& c, const FillOptions& options) {
   const Mesh mesh = read_mesh(c.file);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, c.file);
   const int hole = loop_containing(loops, c.hole_vertex);
   if (hole < 0) throw std::runtime_error(c.file + ": the hole vertex is on no loop");
-  return fill_holes(mesh, loops, {hole}, options, c.file).report.holes.at(0);
+  return fill_holes(mesh, loops, {hole}, options, c.file);
+}
+
+HoleReport fill_reference(const ReferenceCase& c, const FillOptions& options) {
+  return fill_reference_mesh(c, options).report.holes.at(0);
+}
+
+// `c`'s prototype weights, bending model and obstacles.
+FillOptions prototype_options(const ReferenceCase& c) {
+  FillOptions options;
+  options.prototype = c.weights;
+  options.energy.bending = c.bending;
+  options.obstacles = c.obstacles;
+  return options;
 }
 
 // sim2's patch settles into the gap between two cylinders and a sphere. The
@@ -135,10 +148,7 @@ HoleReport fill_reference(const ReferenceCase& c, const FillOptions& options) {
 TEST(Reference, Sim2SettlesBetweenItsObstaclesInFewIterations) {
   FOLDFILL_REQUIRE_SHARED();
   const ReferenceCase sim2 = case_named(load_cases(), "sim2_hole");
-  FillOptions options;
-  options.prototype = sim2.weights;
-  options.energy.bending = sim2.bending;
-  options.obstacles = sim2.obstacles;
+  FillOptions options = prototype_options(sim2);
   const HoleReport fast = fill_reference(sim2, options);
   options.solver.kind = SolverKind::GradientDescent;
   options.solver.max_iterations = 200000;
@@ -166,6 +176,43 @@ TEST(Reference, ContourFillsWithoutSelfIntersectionWithTheDefaults) {
   EXPECT_TRUE(report.warning.empty()) << report.warning;
   std::printf("%s: lambda %g after %d stiffened retries, %.3f s\n", contour.file.c_str(),
               report.lambda, report.stiffened_retries, report.seconds.total);
+}
+
+// Contour's 1.6k-vertex patch starts from a coarser fill (multilevel.h),
+// whose untangling carries over: with the prototype's weights the patch ends
+// clean at the prototype's repulsion (0.1), where from ARAP it intersected
+// itself and had to be minimised again at the default repulsion (972
+// iterations instead of about 110).
+TEST(Reference, ContourStaysCleanAtThePrototypesRepulsionFromACoarseStart) {
+  FOLDFILL_REQUIRE_SHARED();
+  const ReferenceCase contour = case_named(load_cases(), "contour_hole");
+  const FillOptions options = prototype_options(contour);
+  ASSERT_TRUE(options.multilevel.enabled);
+  const HoleReport report = fill_reference(contour, options);
+  ASSERT_TRUE(report.filled) << report.reason;
+  ASSERT_GE(report.patch_vertex_count, options.multilevel.min_patch_vertices);
+  EXPECT_EQ(report.self_intersections, 0);
+  EXPECT_EQ(report.repulsion, contour.weights.mu / contour.weights.alpha);
+  EXPECT_EQ(report.stiffened_retries, 0);
+  EXPECT_LT(report.iterations, 400);
+}
+
+// The Curtain's coarse level stays tangled whatever its retries (its folds are
+// too tight for the coarse triangles): it is left out, and the patch is filled
+// from ARAP exactly as without the coarse-to-fine start.
+TEST(Reference, ATangledCoarseLevelGivesWayToArap) {
+  FOLDFILL_REQUIRE_SHARED();
+  const ReferenceCase curtain = case_named(load_cases(), "curtain_hole");
+  FillOptions options = prototype_options(curtain);
+  const FillResult multilevel = fill_reference_mesh(curtain, options);
+  options.multilevel.enabled = false;
+  const FillResult single = fill_reference_mesh(curtain, options);
+  const HoleReport& report = multilevel.report.holes.at(0);
+  ASSERT_TRUE(report.filled) << report.reason;
+  ASSERT_GE(report.patch_vertex_count, options.multilevel.min_patch_vertices);
+  EXPECT_EQ(report.self_intersections, 0);
+  EXPECT_EQ(multilevel.mesh.positions, single.mesh.positions);
+  EXPECT_EQ(report.iterations, single.report.holes.at(0).iterations);
 }
 
 }  // namespace

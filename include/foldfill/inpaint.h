@@ -33,8 +33,9 @@ struct FillOptions {
   EnergyOptions energy;
   SolverOptions solver;
   std::vector<Obstacle> obstacles;  // in the mesh's units
-  // Large patches start from a coarser fill of the same hole instead of ARAP
-  // (see multilevel.h); `arap` then places the coarsest level.
+  // With the fast solver, large patches start from a coarser fill of the same
+  // hole instead of ARAP (see multilevel.h); `arap` then places the coarsest
+  // level. Gradient descent always starts from ARAP, as in the paper.
   MultilevelOptions multilevel;
   // When set, replaces energy.lambda, energy.repulsion and solver.step per hole.
   std::optional<PrototypeWeights> prototype;
