@@ -41,6 +41,7 @@ struct FillArgs {
   std::string method = "foldfill", bending = "quadratic", solver = "fast", preset;
   PrototypeWeights prototype;
   int max_iterations = FillOptions{}.solver.max_iterations;
+  int coarse_start = FillOptions{}.multilevel.min_patch_vertices;  // 0: never
   double time_limit = 0;
   bool quiet = false, ascii = false;
 };

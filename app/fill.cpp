@@ -58,6 +58,8 @@ FillOptions make_fill_options(const FillArgs& args) {
   options.triangulate.density = args.density;
   options.solver.kind = args.solver == "gd" ? SolverKind::GradientDescent : SolverKind::Fast;
   options.solver.max_iterations = args.max_iterations;
+  options.multilevel.enabled = args.coarse_start > 0;
+  options.multilevel.min_patch_vertices = args.coarse_start;
   options.solver.time_limit_seconds = args.time_limit;
   if (args.preset == "prototype") options.prototype = args.prototype;
   if (!args.obstacles.empty()) options.obstacles = read_obstacles(args.obstacles);

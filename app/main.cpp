@@ -182,6 +182,11 @@ void add_fill_options(CLI::App* command, FillArgs& args) {
   command->add_option("--max-iterations", args.max_iterations, "iteration cap per hole")
       ->check(CLI::PositiveNumber);
   command
+      ->add_option("--coarse-start", args.coarse_start,
+                   "patches of this many interior vertices or more start from a coarser fill "
+                   "(fast solver; 0: never)")
+      ->check(CLI::NonNegativeNumber);
+  command
       ->add_option("--time-limit", args.time_limit,
                    "seconds per hole for the minimisation (0: none)")
       ->check(CLI::NonNegativeNumber);

@@ -227,6 +227,30 @@ TEST_F(CliTest, DemoWritesInputResultAndReport) {
   EXPECT_EQ(r["holes"][0]["self_intersections"], 0);
 }
 
+// The demo's patch (about 500 interior vertices) starts from ARAP by default
+// and from a coarser fill with --coarse-start 100, which leaves it nearer its
+// minimum; --coarse-start 0 is the default here.
+TEST_F(CliTest, CoarseStartSetsWhichPatchesStartFromACoarserFill) {
+  ASSERT_EQ(run_cli("demo " + (dir_ / "demo").string() + " --quiet", dir_).code, 0);
+  const fs::path input = dir_ / "demo" / "input.obj";
+  const auto energy_after_start = [&](const std::string& option, const std::string& name) {
+    const fs::path report = dir_ / (name + ".json");
+    const CliRun run =
+        run_cli("fill " + input.string() + " -q -o " + (dir_ / (name + ".obj")).string() +
+                    " --report " + report.string() + " " + option,
+                dir_);
+    EXPECT_EQ(run.code, 0) << run.err;
+    const nlohmann::json hole = nlohmann::json::parse(slurp(report))["holes"].at(0);
+    EXPECT_GT(hole["patch_vertex_count"].get<int>(), 100);
+    return hole["energy"]["after_arap"]["total"].get<double>();
+  };
+  const double by_default = energy_after_start("", "default");
+  const double never = energy_after_start("--coarse-start 0", "never");
+  const double coarse = energy_after_start("--coarse-start 100", "coarse");
+  EXPECT_EQ(by_default, never);
+  EXPECT_LT(coarse, 0.5 * never);
+}
+
 // Batch runs: a folder or several files, written into an output folder.
 
 // The quads of a `size` x `size` block with lower-left vertex (i, j).
