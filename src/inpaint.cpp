@@ -215,9 +215,10 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
 // minimised as a patch is (minimise_patch), but at once with at least the
 // default repulsion, which the retries would raise it to, and stiffened at
 // most once: that untangles Contour's coarse level, while the Curtain's stays
-// tangled through all four steps (its folds are too tight for the coarse
-// triangles; the fine patch untangles at the default repulsion), and the
-// finer level does better from ARAP than after more retries.
+// tangled through all four steps (its triangles span a narrow finger of the
+// hole in one piece and cannot fold inside it; the fine patch is clean at the
+// default repulsion), and the finer level does better from ARAP than after
+// more retries.
 std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
                                                        const std::vector<Vec3>& start,
                                                        EnergyOptions energy_options,

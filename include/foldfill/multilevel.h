@@ -19,8 +19,8 @@ namespace foldfill {
 // vertices on, the coarse start always paid, 2.4x less time at 7k, 4.5x at
 // 22k, 4x at 75k, with final energies equal or lower (by at most 1.3%). From
 // 1k, with a coarse level that cannot be filled cleanly left out (see
-// LevelMinimiser): Contour's 1.6k patch took a quarter of the instructions and
-// stayed clean at the prototype's repulsion, dev05's 1.8k 27% fewer, dev06's
+// LevelMinimiser): Contour's 1.6k patch took under a third of the instructions
+// and stayed clean at the prototype's repulsion, dev05's 1.8k 27% fewer, dev06's
 // 1.05k ended 16% lower, a 2.1k sheet took 1.3x less time; the Curtain's 2.2k
 // patch, whose coarse level tangles, 32% more. A coarsening of 3 or 4 did no
 // better than 2.
@@ -47,8 +47,8 @@ using LevelMinimiser = std::function<std::optional<std::vector<Vec3>>(
 // arap_embed(domain, arap). A larger one starts from the same hole meshed at
 // density / coarsening, started the same way (so recursively), minimised with
 // `minimise` and interpolated (interpolate_patch), unless `minimise` gives
-// nothing or the interpolated start intersects itself: then from ARAP too. Every level shares the
-// loop, the strip and the normalisation of the fine one.
+// nothing or the interpolated start intersects itself: then from ARAP too.
+// Every level shares the loop, the strip and the normalisation of the fine one.
 std::vector<Vec3> multilevel_start(const Strip& strip, const Flattening& flat,
                                    const TriangulateOptions& triangulate, const EmbedDomain& domain,
                                    const ArapOptions& arap, const MultilevelOptions& options,
