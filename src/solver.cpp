@@ -383,14 +383,18 @@ class Lbfgs final : public Stepper {
     if (!(current.gradient.dot(direction_) < 0)) return false;
     step_ = direction_;
     clip_per_vertex(step_, max_displacement_);
-    if (!obstacles_.empty()) stop_at_obstacles(obstacles_, current.x, step_);
-    close_contact_gaps(contacts_, step_);
+    meet_obstacles(current);
     if (current.gradient.dot(step_) < 0) return true;
     // Clipping undid the descent: shrink the whole direction instead.
     step_ = direction_ * (max_displacement_ / per_vertex(direction_).rowwise().norm().maxCoeff());
+    meet_obstacles(current);
+    return current.gradient.dot(step_) < 0;
+  }
+
+  // step_ stopped at the obstacles, plus the moves that close the contacts' gaps.
+  void meet_obstacles(const Iterate& current) {
     if (!obstacles_.empty()) stop_at_obstacles(obstacles_, current.x, step_);
     close_contact_gaps(contacts_, step_);
-    return current.gradient.dot(step_) < 0;
   }
 
   // Backtracking along direction_, each vertex's move clipped to the maximum
