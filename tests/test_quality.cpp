@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "foldfill/error.h"
@@ -161,6 +162,38 @@ TEST(SelfIntersections, CountsEachDegenerateCountedFaceOnce) {
   const std::vector<Tri> faces{{0, 1, 2}, {3, 4, 5}, {5, 6, 3}};
   EXPECT_EQ(count_self_intersections(positions, faces, 0), 2);
   EXPECT_EQ(count_self_intersections(positions, faces, 2), 1);
+}
+
+// A crumpled grid sheet (every vertex moved at random by up to an edge length
+// along each axis, so that faces cross) whose cells widen from 0.3 to 3.3
+// across it, far from the origin: the count over all faces is the sum of the
+// counts over each pair of faces alone.
+TEST(SelfIntersections, CountsEachCrossingPairOnceWhateverTheFaceSizes) {
+  constexpr int kSide = 12;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> shift(-1, 1);
+  std::vector<Vec3> positions;
+  for (int i = 0; i < kSide; ++i) {
+    for (int j = 0; j < kSide; ++j) {
+      const double x = 0.15 * j * j + 0.3 * j, y = i;
+      positions.push_back({1e4 + x + shift(random), -3e3 + y + shift(random), 7e2 + shift(random)});
+    }
+  }
+  std::vector<Tri> faces;
+  for (int i = 0; i + 1 < kSide; ++i) {
+    for (int j = 0; j + 1 < kSide; ++j) {
+      const int v = i * kSide + j;
+      faces.push_back({v, v + 1, v + kSide + 1});
+      faces.push_back({v, v + kSide + 1, v + kSide});
+    }
+  }
+  const int counted_from = static_cast<int>(faces.size()) / 3;
+  int pairwise = 0;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+    for (int g = std::max(f + 1, counted_from); g < static_cast<int>(faces.size()); ++g)
+      pairwise += count_self_intersections(positions, {faces[f], faces[g]});
+  EXPECT_GT(pairwise, 20);
+  EXPECT_EQ(count_self_intersections(positions, faces, counted_from), pairwise);
 }
 
 // bench_quality's comparison, on one folded sheet whose hole spans a fold:
