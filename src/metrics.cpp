@@ -122,10 +122,81 @@ bool overlap(const FaceBox& a, const FaceBox& b) {
   return true;
 }
 
+// A uniform grid of cubic cells over boxes, about as wide as most boxes (see
+// the constants), so that a cell holds few boxes and a box overlaps few cells.
+class BoxGrid {
+ public:
+  explicit BoxGrid(const std::vector<FaceBox>& boxes) {
+    origin_.fill(std::numeric_limits<double>::infinity());
+    std::array<double, 3> span{0, 0, 0};
+    std::vector<double> extents;
+    extents.reserve(boxes.size());
+    for (const FaceBox& box : boxes)
+      for (int c = 0; c < 3; ++c) origin_[c] = std::min(origin_[c], box.low[c]);
+    for (const FaceBox& box : boxes) {
+      double extent = 0;
+      for (int c = 0; c < 3; ++c) {
+        span[c] = std::max(span[c], box.high[c] - origin_[c]);
+        extent = std::max(extent, box.high[c] - box.low[c]);
+      }
+      extents.push_back(extent);
+    }
+    if (extents.empty()) return;
+    const auto typical =
+        extents.begin() + static_cast<std::ptrdiff_t>(kTypicalQuantile * (extents.size() - 1));
+    std::nth_element(extents.begin(), typical, extents.end());
+    const double widest = *std::max_element(typical, extents.end());
+    width_ = std::max(kTypicalWidth * *typical, widest / kMostCellsPerAxis);
+    if (!(width_ > 0)) return;  // only point boxes (no nondegenerate face): no cell
+    const double most_cells = kMaxCellsPerBox * static_cast<double>(boxes.size()) + 64;
+    while (true) {
+      double cells = 1;
+      for (int c = 0; c < 3; ++c) cells *= std::floor(span[c] / width_) + 1;
+      if (cells <= most_cells) break;
+      width_ *= std::cbrt(cells / most_cells) * (1 + 1e-9);
+    }
+    per_width_ = 1 / width_;
+    for (int c = 0; c < 3; ++c) size_[c] = static_cast<int>(span[c] * per_width_) + 1;
+  }
+
+  int cell_count() const { return size_[0] * size_[1] * size_[2]; }
+  // The cell of the point `corner` (any point of the boxes' hull).
+  int cell(const std::array<double, 3>& corner) const {
+    return (index(corner[2], 2) * size_[1] + index(corner[1], 1)) * size_[0] + index(corner[0], 0);
+  }
+  // Calls add(cell) for every cell that `box` overlaps.
+  template <typename Add>
+  void cells_of(const FaceBox& box, Add add) const {
+    for (int k = index(box.low[2], 2); k <= index(box.high[2], 2); ++k)
+      for (int j = index(box.low[1], 1); j <= index(box.high[1], 1); ++j)
+        for (int i = index(box.low[0], 0); i <= index(box.high[0], 0); ++i)
+          add((k * size_[1] + j) * size_[0] + i);
+  }
+
+ private:
+  // Monotone in x, so that a box's cells hold every point of it.
+  int index(double x, int c) const {
+    return std::min(static_cast<int>((x - origin_[c]) * per_width_), size_[c] - 1);
+  }
+
+  // Cells 1.25 times as wide as the box extent (largest side) that 90% of
+  // the boxes do not exceed: a few long faces (the Curtain's strip: 5.1
+  // against 1.4) would otherwise make the cells, and the pairs tested in
+  // them, several times too many. Best of the widths tried, by instructions
+  // on the reference cases' ARAP starts.
+  static constexpr double kTypicalQuantile = 0.9, kTypicalWidth = 1.25;
+  // ... but no box overlaps more than 5 cells per axis,
+  static constexpr double kMostCellsPerAxis = 4;
+  // and there are at most this many cells per box, all told.
+  static constexpr double kMaxCellsPerBox = 16;
+  std::array<double, 3> origin_{};
+  double width_ = 0, per_width_ = 0;
+  std::array<int, 3> size_{0, 0, 0};
+};
+
 // Calls visit(f, g) once for every pair of faces whose (closed) boxes overlap
-// and one of which is counted. A uniform grid of cubic cells as wide as the
-// widest box: each box is entered in the (at most 8) cells it overlaps
-// (sorting the (cell, box) entries groups them by cell), and a pair is
+// and one of which is counted, until it returns false. Each box is entered in
+// the cells of a BoxGrid it overlaps (a counting sort by cell), and a pair is
 // visited in the one cell that holds the low corner of the boxes'
 // intersection, which both boxes overlap. A fill's faces are all of about one
 // size, so that a cell holds few boxes: CGAL's box_self_intersection_d (a
@@ -133,55 +204,28 @@ bool overlap(const FaceBox& a, const FaceBox& b) {
 // curtain's ARAP start (5338 faces), of which the exact tests take 2.
 template <typename Visit>
 void for_each_overlapping_pair(const std::vector<FaceBox>& boxes, Visit visit) {
-  std::array<double, 3> origin, span;
-  double width = 0;
-  origin.fill(std::numeric_limits<double>::infinity());
-  span.fill(0);
-  for (const FaceBox& box : boxes)
-    for (int c = 0; c < 3; ++c) origin[c] = std::min(origin[c], box.low[c]);
-  for (const FaceBox& box : boxes) {
-    for (int c = 0; c < 3; ++c) {
-      span[c] = std::max(span[c], box.high[c] - origin[c]);
-      width = std::max(width, box.high[c] - box.low[c]);
-    }
-  }
-  if (!(width > 0)) return;  // no box
-  // Cell indices fit in 21 bits per axis.
-  constexpr double kMaxCells = 1 << 20;
-  for (int c = 0; c < 3; ++c) width = std::max(width, span[c] / kMaxCells);
-  const double per_width = 1 / width;
-  const auto cell = [&](double x, int c) {
-    return static_cast<std::uint64_t>((x - origin[c]) * per_width);
-  };
-  const auto key = [](std::uint64_t i, std::uint64_t j, std::uint64_t k) {
-    return i << 42 | j << 21 | k;
-  };
+  const BoxGrid grid(boxes);
+  const int cells = grid.cell_count();
+  if (cells == 0) return;
+  std::vector<int> start(cells + 1, 0);  // boxes of cell c: members[start[c], start[c + 1])
+  for (const FaceBox& box : boxes) grid.cells_of(box, [&](int c) { ++start[c + 1]; });
+  for (int c = 0; c < cells; ++c) start[c + 1] += start[c];
+  std::vector<int> members(start.back()), next(start.begin(), start.end() - 1);
+  for (int b = 0; b < static_cast<int>(boxes.size()); ++b)
+    grid.cells_of(boxes[b], [&](int c) { members[next[c]++] = b; });
 
-  std::vector<std::pair<std::uint64_t, int>> entries;  // (cell, box)
-  entries.reserve(4 * boxes.size());
-  for (int b = 0; b < static_cast<int>(boxes.size()); ++b) {
-    const FaceBox& box = boxes[b];
-    for (std::uint64_t i = cell(box.low[0], 0); i <= cell(box.high[0], 0); ++i)
-      for (std::uint64_t j = cell(box.low[1], 1); j <= cell(box.high[1], 1); ++j)
-        for (std::uint64_t k = cell(box.low[2], 2); k <= cell(box.high[2], 2); ++k)
-          entries.emplace_back(key(i, j, k), b);
-  }
-  std::sort(entries.begin(), entries.end());
-  for (size_t first = 0; first < entries.size();) {
-    size_t last = first;
-    while (last < entries.size() && entries[last].first == entries[first].first) ++last;
-    for (size_t p = first; p < last; ++p) {
-      const FaceBox& a = boxes[entries[p].second];
-      for (size_t q = p + 1; q < last; ++q) {
-        const FaceBox& b = boxes[entries[q].second];
+  for (int c = 0; c < cells; ++c) {
+    for (int p = start[c]; p < start[c + 1]; ++p) {
+      const FaceBox& a = boxes[members[p]];
+      for (int q = p + 1; q < start[c + 1]; ++q) {
+        const FaceBox& b = boxes[members[q]];
         if (!(a.counted || b.counted) || !overlap(a, b)) continue;
-        const std::uint64_t corner =
-            key(cell(std::max(a.low[0], b.low[0]), 0), cell(std::max(a.low[1], b.low[1]), 1),
-                cell(std::max(a.low[2], b.low[2]), 2));
-        if (corner == entries[first].first) visit(a.face, b.face);
+        const std::array<double, 3> corner{std::max(a.low[0], b.low[0]),
+                                           std::max(a.low[1], b.low[1]),
+                                           std::max(a.low[2], b.low[2])};
+        if (grid.cell(corner) == c && !visit(a.face, b.face)) return;
       }
     }
-    first = last;
   }
 }
 
@@ -252,29 +296,25 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
   return stats;
 }
 
-// The pairs PMP::self_intersections would find on the mesh, without building
-// it (the faces must form a manifold, as a fill's domain does; only a face
-// given twice is caught), and only those with a counted face: the strip's own
-// pairs are never looked at.
-int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
-                             int counted_from) {
+namespace {
+
+// The boxes of the nondegenerate faces, and how many counted faces (index >=
+// counted_from) are degenerate: collinear or with a non-finite corner.
+std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                                int counted_from, int& degenerate_counted) {
   const int face_count = static_cast<int>(faces.size());
   counted_from = std::clamp(counted_from, 0, face_count);
-  int count = 0;
+  degenerate_counted = 0;
   std::vector<FaceBox> boxes;
   boxes.reserve(faces.size());
+  const auto finite = [](const Vec3& p) {
+    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+  };
   for (int f = 0; f < face_count; ++f) {
     const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
                &r = positions[faces[f][2]];
-    // PMP::self_intersections reports a degenerate face as intersecting
-    // itself and tests it against no other; a face with a non-finite corner
-    // is taken as degenerate.
-    const bool finite =
-        std::all_of(p.begin(), p.end(), [](double x) { return std::isfinite(x); }) &&
-        std::all_of(q.begin(), q.end(), [](double x) { return std::isfinite(x); }) &&
-        std::all_of(r.begin(), r.end(), [](double x) { return std::isfinite(x); });
-    if (!finite || CGAL::collinear(point(p), point(q), point(r))) {
-      count += f >= counted_from;
+    if (!finite(p) || !finite(q) || !finite(r) || CGAL::collinear(point(p), point(q), point(r))) {
+      degenerate_counted += f >= counted_from;
       continue;
     }
     FaceBox box{{}, {}, f, f >= counted_from};
@@ -284,9 +324,44 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
     }
     boxes.push_back(box);
   }
-  for_each_overlapping_pair(
-      boxes, [&](int f, int g) { count += faces_intersect(positions, faces[f], faces[g]); });
+  return boxes;
+}
+
+bool share_a_vertex(const Tri& f, const Tri& g) {
+  for (int v : f)
+    if (v == g[0] || v == g[1] || v == g[2]) return true;
+  return false;
+}
+
+}  // namespace
+
+// The pairs PMP::self_intersections would find on the mesh, without building
+// it (the faces must form a manifold, as a fill's domain does; only a face
+// given twice is caught), and only those with a counted face: the strip's own
+// pairs are never looked at. PMP::self_intersections reports a degenerate
+// face as intersecting itself and tests it against no other; a face with a
+// non-finite corner is taken as degenerate.
+int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                             int counted_from) {
+  int count = 0;
+  const std::vector<FaceBox> boxes = face_boxes(positions, faces, counted_from, count);
+  for_each_overlapping_pair(boxes, [&](int f, int g) {
+    count += faces_intersect(positions, faces[f], faces[g]);
+    return true;
+  });
   return count;
+}
+
+bool passes_through_itself(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                           int counted_from) {
+  int degenerate = 0;
+  const std::vector<FaceBox> boxes = face_boxes(positions, faces, counted_from, degenerate);
+  bool found = false;
+  for_each_overlapping_pair(boxes, [&](int f, int g) {
+    found = !share_a_vertex(faces[f], faces[g]) && faces_intersect(positions, faces[f], faces[g]);
+    return !found;
+  });
+  return found;
 }
 
 double total_area(const std::vector<Vec3>& positions, const std::vector<Tri>& faces) {

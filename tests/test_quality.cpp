@@ -188,12 +188,36 @@ TEST(SelfIntersections, CountsEachCrossingPairOnceWhateverTheFaceSizes) {
     }
   }
   const int counted_from = static_cast<int>(faces.size()) / 3;
-  int pairwise = 0;
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
-    for (int g = std::max(f + 1, counted_from); g < static_cast<int>(faces.size()); ++g)
-      pairwise += count_self_intersections(positions, {faces[f], faces[g]});
-  EXPECT_GT(pairwise, 20);
+  int pairwise = 0, passing = 0;  // passing: pairs with no common vertex
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    for (int g = std::max(f + 1, counted_from); g < static_cast<int>(faces.size()); ++g) {
+      const int crossing = count_self_intersections(positions, {faces[f], faces[g]});
+      pairwise += crossing;
+      if (!passes_through_itself(positions, {faces[f], faces[g]})) continue;
+      EXPECT_EQ(crossing, 1);
+      ++passing;
+    }
+  }
+  EXPECT_GT(passing, 10);
+  EXPECT_GT(pairwise, passing);
   EXPECT_EQ(count_self_intersections(positions, faces, counted_from), pairwise);
+  EXPECT_TRUE(passes_through_itself(positions, faces, counted_from));
+}
+
+// Passing through itself takes two faces with no common vertex: neighbours
+// folded onto each other intersect, but do not pass through.
+TEST(SelfIntersections, PassingThroughItselfTakesFacesWithNoCommonVertex) {
+  const std::vector<Vec3> positions = with_right_triangle(
+      {{1, 1, 0}, {0.5, 0.5, -1}, {0.5, 0.5, 1}, {5, 5, 0}, {10, 0, 0}, {11, 0, 0}, {10, 1, 0}});
+  const std::vector<Tri> folded{{0, 1, 2}, {1, 0, 3}};
+  EXPECT_EQ(count_self_intersections(positions, folded), 1);
+  EXPECT_FALSE(passes_through_itself(positions, folded));
+  // Face 1 crosses face 0; face 2 is far from both.
+  const std::vector<Tri> crossing{{0, 1, 2}, {4, 5, 6}, {7, 8, 9}};
+  EXPECT_TRUE(passes_through_itself(positions, crossing, 0));
+  EXPECT_TRUE(passes_through_itself(positions, crossing, 1));
+  EXPECT_FALSE(passes_through_itself(positions, crossing, 2));
+  EXPECT_FALSE(passes_through_itself(positions, {{0, 1, 2}, {7, 8, 9}}));
 }
 
 // bench_quality's comparison, on one folded sheet whose hole spans a fold:

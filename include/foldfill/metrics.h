@@ -28,6 +28,14 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
 int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                              int counted_from = 0);
 
+// Whether two faces that share no vertex intersect, one of them of index >=
+// `counted_from`: the surface passes through itself (by the test of
+// count_self_intersections; degenerate faces and neighbours folded onto each
+// other do not count). Stops at the first such pair, and tests no
+// neighbours, the most of count_self_intersections's pairs.
+bool passes_through_itself(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                           int counted_from = 0);
+
 double total_area(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
 
 // RMS of (|e| / l - 1) over `edges` with rest lengths.
