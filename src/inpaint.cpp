@@ -32,6 +32,11 @@ constexpr int kStiffeningSteps = 4;
 constexpr double kStiffening = 10;
 constexpr double kSmallestStiffenedLambda = 1e-3;
 
+// A minimisation at a repulsion weaker than the default is looked at after
+// this many iterations, and given up at once when the patch passes through
+// itself there (see minimise_patch).
+constexpr int kPassThroughCheck = 8;
+
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -147,6 +152,12 @@ Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& star
 // so fast that a fold slips through between vertices, and more repulsion does
 // not stop that. So when the result intersects itself: a repulsion weaker
 // than the default is first raised to it (minimised again from `initial`);
+// such a minimisation is also given up after kPassThroughCheck iterations
+// when the patch passes through itself there: as the shrunk ARAP start
+// expands, a weak repulsion lets folds through at once (the reference
+// curtain at the prototype's repulsion of 0.1: 90 intersecting pairs after 4
+// iterations, 223 at convergence 126 iterations later), and a surface that
+// passed through itself may come apart again but in the wrong layer order;
 // then, while it still intersects, minimise again from `initial` with
 // kStiffening times the bending weight, up to kStiffeningSteps times (with the
 // prototype's repulsion of 0.1 kept, the reference curtain came out clean only
@@ -172,21 +183,29 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     report.stop_reason = result.solved.stop_reason;
     return result;
   };
-  const auto minimise = [&](const std::vector<Vec3>& from, double lambda, double repulsion) {
+  const auto minimise = [&](const std::vector<Vec3>& from, double lambda, double repulsion,
+                            bool watch = false) {
     EnergyOptions weights = energy_options;
     weights.lambda = lambda;
     weights.repulsion = repulsion;
-    return minimise_once(domain, from, weights, with_time_left(solver, deadline, start), obstacles,
-                         report);
+    SolverOptions options = with_time_left(solver, deadline, start);
+    if (watch) {
+      options.watch_iteration = kPassThroughCheck;
+      options.watch = [&domain](const std::vector<Vec3>& positions) {
+        return !passes_through_itself(positions, domain.faces, domain.strip_face_count);
+      };
+    }
+    return minimise_once(domain, from, weights, options, obstacles, report);
   };
   const auto cancelled = [](const Minimised& m) { return m.solved.stop_reason == "cancelled"; };
 
-  Minimised result = minimise(initial, energy_options.lambda, energy_options.repulsion);
   double lambda = energy_options.lambda, repulsion = energy_options.repulsion;
+  const bool weak_repulsion = repulsion < EnergyOptions{}.repulsion;
+  Minimised result = minimise(initial, lambda, repulsion, /*watch=*/weak_repulsion);
   const auto may_retry = [&] {
     return result.self_intersections > 0 && !cancelled(result) && !out_of_time();
   };
-  if (may_retry() && repulsion < EnergyOptions{}.repulsion) {
+  if (may_retry() && weak_repulsion) {
     // A weaker repulsion than the default is raised to it first, at the
     // bending weight asked for: that alone untangles the reference curtain
     // with the prototype's weights in 272 iterations, where stiffening and

@@ -508,6 +508,9 @@ SolverResult run(const FabricEnergy& energy, Stepper& stepper, Iterate& current,
     if (options.progress &&
         !options.progress({result.iterations, current.energy, rms_gradient(current.gradient)}))
       return finish("cancelled");
+    if (options.watch && result.iterations == options.watch_iteration &&
+        !options.watch(energy.positions(current.x)))
+      return finish("abandoned");
     const double change = std::abs(current.energy - previous) /
                           std::max(current.energy, std::numeric_limits<double>::min());
     stalled = change < options.relative_energy_tol ? stalled + 1 : 0;

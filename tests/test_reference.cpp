@@ -197,6 +197,24 @@ TEST(Reference, ContourStaysCleanAtThePrototypesRepulsionFromACoarseStart) {
   EXPECT_LT(report.iterations, 400);
 }
 
+// At the prototype's repulsion (0.1) the Curtain's patch passes through
+// itself within the first iterations and never comes apart: that minimisation
+// is given up after 8 iterations, and the patch is the one filled at the
+// default repulsion in the first place.
+TEST(Reference, AWeakRepulsionThatLetsThePatchThroughIsGivenUpEarly) {
+  FOLDFILL_REQUIRE_SHARED();
+  ReferenceCase curtain = case_named(load_cases(), "curtain_hole");
+  const FillResult prototype = fill_reference_mesh(curtain, prototype_options(curtain));
+  curtain.weights.mu = curtain.weights.alpha * EnergyOptions{}.repulsion;
+  const FillResult direct = fill_reference_mesh(curtain, prototype_options(curtain));
+  const HoleReport& report = prototype.report.holes.at(0);
+  ASSERT_TRUE(report.filled) << report.reason;
+  EXPECT_EQ(report.repulsion, EnergyOptions{}.repulsion);
+  EXPECT_EQ(report.self_intersections, 0);
+  EXPECT_EQ(prototype.mesh.positions, direct.mesh.positions);
+  EXPECT_EQ(report.iterations, direct.report.holes.at(0).iterations + 8);
+}
+
 // The Curtain's coarse level stays tangled whatever its retries (its folds are
 // too tight for the coarse triangles): it is left out, and the patch is filled
 // from ARAP exactly as without the coarse-to-fine start.

@@ -137,6 +137,31 @@ TEST(Solver, CallbackCancels) {
   }
 }
 
+// The watch sees the positions after the iteration it asks for, once, and
+// returning false abandons the minimisation with that (the lowest) state.
+TEST(Solver, WatchAbandonsAtItsIteration) {
+  const Problem problem(10, 10);
+  for (SolverKind kind : kBothKinds) {
+    SolverOptions options = with_kind(kind);
+    std::vector<Vec3> seen;
+    int calls = 0;
+    options.watch_iteration = 6;
+    options.watch = [&](const std::vector<Vec3>& positions) {
+      seen = positions;
+      ++calls;
+      return false;
+    };
+    const SolverResult result = minimize_energy(problem.energy, {}, problem.start, options);
+    EXPECT_EQ(result.stop_reason, "abandoned");
+    EXPECT_EQ(result.iterations, 6);
+    EXPECT_EQ(calls, 1);
+    EXPECT_EQ(result.positions, seen);
+    options.max_iterations = 6;
+    options.watch = nullptr;
+    EXPECT_EQ(minimize_energy(problem.energy, {}, problem.start, options).positions, seen);
+  }
+}
+
 TEST(Solver, MaxIterationsAndTimeLimitAreHonoured) {
   const Problem problem(10, 10);
   for (SolverKind kind : kBothKinds) {

@@ -39,12 +39,18 @@ struct SolverOptions {
   double max_displacement = 0.2;
   // Called every iteration; returning false cancels (the best state is kept).
   std::function<bool(const SolverProgress&)> progress;
+  // Called once, after iteration `watch_iteration`, with the positions then
+  // (all domain vertices, normalised); returning false abandons the
+  // minimisation there (stop reason "abandoned", the best state kept).
+  int watch_iteration = 0;
+  std::function<bool(const std::vector<Vec3>&)> watch;
 };
 
 struct SolverResult {
   std::vector<Vec3> positions;  // all domain vertices, normalised
   int iterations = 0;
-  std::string stop_reason;  // "converged", "max_iterations", "time_limit", "cancelled", "diverged"
+  // "converged", "max_iterations", "time_limit", "cancelled", "abandoned", "diverged"
+  std::string stop_reason;
 };
 
 // Minimises `energy` from `start` (all domain vertices), keeping free vertices
