@@ -147,6 +147,15 @@ Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& star
   return result;
 }
 
+// How minimise_patch retries a self-intersecting patch: at most
+// `stiffening_steps` stiffer minimisations, and which minimisations are given
+// up early when the patch passes through itself (kPassThroughCheck): only one
+// at a weak repulsion, or every one.
+struct RetryRules {
+  int stiffening_steps = kStiffeningSteps;
+  bool watch_every_attempt = false;
+};
+
 // Minimises the fabric energy from `initial`. Vertex repulsion prevents most
 // self-intersections, but at a small bending weight a large patch can crumple
 // so fast that a fold slips through between vertices, and more repulsion does
@@ -167,12 +176,12 @@ Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& star
 // while it only has to find its finer folds; if it intersects (or diverges)
 // all the same, the stiffer result is kept. report.lambda says which bending
 // weight the patch finally has, report.stiffened_retries how many stiffer
-// minimisations it took (at most `stiffening_steps`). The time limit covers
-// them all.
+// minimisations it took (at most rules.stiffening_steps). The time limit
+// covers them all.
 Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& initial,
                          const EnergyOptions& energy_options, const SolverOptions& solver,
                          const std::vector<Obstacle>& obstacles, HoleReport& report,
-                         int stiffening_steps = kStiffeningSteps) {
+                         const RetryRules& rules = {}) {
   const auto start = Clock::now();
   const double deadline = solver.time_limit_seconds;
   const auto out_of_time = [&] { return deadline > 0 && seconds_since(start) >= deadline; };
@@ -189,7 +198,7 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     weights.lambda = lambda;
     weights.repulsion = repulsion;
     SolverOptions options = with_time_left(solver, deadline, start);
-    if (watch) {
+    if (watch || rules.watch_every_attempt) {
       options.watch_iteration = kPassThroughCheck;
       options.watch = [&domain](const std::vector<Vec3>& positions) {
         return !passes_through_itself(positions, domain.faces, domain.strip_face_count);
@@ -213,7 +222,7 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     repulsion = EnergyOptions{}.repulsion;
     result = minimise(initial, lambda, repulsion);
   }
-  while (may_retry() && report.stiffened_retries < stiffening_steps) {
+  while (may_retry() && report.stiffened_retries < rules.stiffening_steps) {
     lambda = std::max(lambda * kStiffening, kSmallestStiffenedLambda);
     result = minimise(initial, lambda, repulsion);
     ++report.stiffened_retries;
@@ -237,7 +246,11 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
 // tangled through all four steps (its triangles span a narrow finger of the
 // hole in one piece and cannot fold inside it; the fine patch is clean at the
 // default repulsion), and the finer level does better from ARAP than after
-// more retries.
+// more retries. Each of its minimisations is given up when the level passes
+// through itself after kPassThroughCheck iterations: the Curtain's does, by
+// 48 and 15 pairs, and ends with 30 and 50 after 130 and 210 iterations; of
+// the coarse levels of bench_fill's and bench_quality's cases, none that
+// passed through itself there came apart again.
 std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
                                                        const std::vector<Vec3>& start,
                                                        EnergyOptions energy_options,
@@ -245,8 +258,9 @@ std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
                                                        const std::vector<Obstacle>& obstacles) {
   energy_options.repulsion = std::max(energy_options.repulsion, EnergyOptions{}.repulsion);
   HoleReport level_report;  // the hole's report is the fine level's
-  Minimised minimised = minimise_patch(level, start, energy_options, solver, obstacles,
-                                       level_report, /*stiffening_steps=*/1);
+  Minimised minimised =
+      minimise_patch(level, start, energy_options, solver, obstacles, level_report,
+                     RetryRules{/*stiffening_steps=*/1, /*watch_every_attempt=*/true});
   if (minimised.solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, "cancelled");
   if (minimised.self_intersections > 0) return std::nullopt;
   return std::move(minimised.solved.positions);

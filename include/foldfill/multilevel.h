@@ -22,8 +22,9 @@ namespace foldfill {
 // LevelMinimiser): Contour's 1.6k patch took under a third of the instructions
 // and stayed clean at the prototype's repulsion, dev05's 1.8k 27% fewer, dev06's
 // 1.05k ended 16% lower, a 2.1k sheet took 1.3x less time; the Curtain's 2.2k
-// patch, whose coarse level tangles, 32% more. A coarsening of 3 or 4 did no
-// better than 2.
+// patch, whose coarse level tangles, 32% more then (now such a level is given
+// up within a few iterations: minimise_coarse_level in inpaint.cpp). A
+// coarsening of 3 or 4 did no better than 2.
 struct MultilevelOptions {
   bool enabled = true;
   // A patch with fewer interior vertices starts from ARAP.
