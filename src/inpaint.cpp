@@ -123,7 +123,10 @@ void throw_if_cancelled(const FillContext& context, const std::string& where) {
 struct Minimised {
   std::optional<FabricEnergy> energy;
   SolverResult solved;
+  // Intersecting triangle pairs, not counted (0) in a minimisation abandoned
+  // because it passed through itself: it has some (see count_if_abandoned).
   int self_intersections = 0;
+  bool tangled() const { return self_intersections > 0 || solved.stop_reason == "abandoned"; }
 };
 
 // `solver` with its time limit cut to what is left of `budget_seconds` since
@@ -142,8 +145,17 @@ Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& star
   result.energy.emplace(domain, energy_options);
   result.solved = minimize_energy(*result.energy, obstacles, start, solver);
   report.iterations += result.solved.iterations;
-  result.self_intersections =
-      count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
+  if (result.solved.stop_reason != "abandoned")
+    result.self_intersections =
+        count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
+  return result;
+}
+
+// Counts the pairs of an abandoned minimisation that is kept after all.
+Minimised count_if_abandoned(Minimised result, const EmbedDomain& domain) {
+  if (result.solved.stop_reason == "abandoned")
+    result.self_intersections =
+        count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
   return result;
 }
 
@@ -185,7 +197,8 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
   const auto start = Clock::now();
   const double deadline = solver.time_limit_seconds;
   const auto out_of_time = [&] { return deadline > 0 && seconds_since(start) >= deadline; };
-  const auto finish = [&](Minimised result, double lambda, double repulsion) {
+  const auto finish = [&](Minimised kept, double lambda, double repulsion) {
+    Minimised result = count_if_abandoned(std::move(kept), domain);
     report.lambda = lambda;
     report.repulsion = repulsion;
     report.self_intersections = result.self_intersections;
@@ -211,9 +224,7 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
   double lambda = energy_options.lambda, repulsion = energy_options.repulsion;
   const bool weak_repulsion = repulsion < EnergyOptions{}.repulsion;
   Minimised result = minimise(initial, lambda, repulsion, /*watch=*/weak_repulsion);
-  const auto may_retry = [&] {
-    return result.self_intersections > 0 && !cancelled(result) && !out_of_time();
-  };
+  const auto may_retry = [&] { return result.tangled() && !cancelled(result) && !out_of_time(); };
   if (may_retry() && weak_repulsion) {
     // A weaker repulsion than the default is raised to it first, at the
     // bending weight asked for: that alone untangles the reference curtain
@@ -227,12 +238,10 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     result = minimise(initial, lambda, repulsion);
     ++report.stiffened_retries;
   }
-  if (report.stiffened_retries == 0 || result.self_intersections > 0 || cancelled(result) ||
-      out_of_time())
+  if (report.stiffened_retries == 0 || result.tangled() || cancelled(result) || out_of_time())
     return finish(std::move(result), lambda, repulsion);
   Minimised relaxed = minimise(result.solved.positions, energy_options.lambda, repulsion);
-  const bool relaxed_is_better =
-      relaxed.self_intersections == 0 && relaxed.solved.stop_reason != "diverged";
+  const bool relaxed_is_better = !relaxed.tangled() && relaxed.solved.stop_reason != "diverged";
   if (relaxed_is_better || cancelled(relaxed))
     return finish(std::move(relaxed), energy_options.lambda, repulsion);
   return finish(std::move(result), lambda, repulsion);
@@ -262,7 +271,7 @@ std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
       minimise_patch(level, start, energy_options, solver, obstacles, level_report,
                      RetryRules{/*stiffening_steps=*/1, /*watch_every_attempt=*/true});
   if (minimised.solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, "cancelled");
-  if (minimised.self_intersections > 0) return std::nullopt;
+  if (minimised.tangled()) return std::nullopt;
   return std::move(minimised.solved.positions);
 }
 
