@@ -2,8 +2,6 @@
 // triangulation of the hole polygon) on the reference cases and the cloth
 // cases, and prints a markdown table with the patch's size, quality and fit,
 // and for the cloth cases its area against the true removed area.
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "foldfill/error.h"
 #include "foldfill/flatten.h"
 #include "foldfill/holes.h"
@@ -32,21 +31,6 @@ struct Case {
   int hole_vertex = -1;                // reference cases: a vertex of the hole loop
   std::optional<double> removed_area;  // cloth cases: the truth
 };
-
-// Milliseconds of the median of kRuns calls of `work`.
-template <class Work>
-double median_ms(const Work& work) {
-  std::vector<double> times;
-  for (int run = 0; run < kRuns; ++run) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    times.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count());
-  }
-  std::sort(times.begin(), times.end());
-  return times[kRuns / 2];
-}
 
 nlohmann::json read_json(const fs::path& path) {
   std::ifstream file(path);
@@ -94,13 +78,13 @@ void print_row(const Case& c) {
   const BoundaryLoop loop = pick_hole(find_boundary_loops(mesh, c.name), c);
   Strip strip;
   Flattening flat;
-  const double flatten_ms = median_ms([&] {
+  const double flatten_ms = bench::median_ms(kRuns, [&] {
     strip = extract_strip(mesh, loop, c.name);
     flat = flatten_strip(strip, c.name);
   });
   const std::vector<Vec2> polygon = hole_polygon(strip, flat);
   FlatPatch patch;
-  const double triangulate_ms = median_ms([&] { patch = triangulate_hole(polygon); });
+  const double triangulate_ms = bench::median_ms(kRuns, [&] { patch = triangulate_hole(polygon); });
 
   std::printf("| %s | %d | %zu | %.2f | %.2f | %zu | %zu | %.1f | %.4f | %.2e | %.2e | %.4f |",
               c.name.c_str(), strip.loop_size, strip.faces.size(), flatten_ms, triangulate_ms,

@@ -12,14 +12,13 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <iterator>
 #include <random>
 #include <utility>
 #include <vector>
 
+#include "bench_timing.h"
 #include "foldfill/examples.h"
 #include "foldfill/metrics.h"
 
@@ -30,21 +29,6 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 
 constexpr int kRuns = 7;
-
-// Milliseconds of the median of kRuns calls of `work`.
-template <class Work>
-double median_ms(const Work& work) {
-  std::vector<double> times;
-  for (int run = 0; run < kRuns; ++run) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    times.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count());
-  }
-  std::sort(times.begin(), times.end());
-  return times[kRuns / 2];
-}
 
 SurfaceMesh surface_mesh(const Mesh& mesh) {
   SurfaceMesh result;
@@ -67,16 +51,16 @@ Mesh crumpled(Mesh mesh, double reach) {
 bool run_case(const char* name, const Mesh& mesh) {
   const SurfaceMesh cgal_mesh = surface_mesh(mesh);
   std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
-  const double cgal_ms = median_ms([&] {
+  const double cgal_ms = bench::median_ms(kRuns, [&] {
     pairs.clear();
     CGAL::Polygon_mesh_processing::self_intersections(cgal_mesh, std::back_inserter(pairs));
   });
   int count = 0;
-  const double count_ms =
-      median_ms([&] { count = count_self_intersections(mesh.positions, mesh.faces); });
+  const double count_ms = bench::median_ms(
+      kRuns, [&] { count = count_self_intersections(mesh.positions, mesh.faces); });
   bool passes = false;
   const double passes_ms =
-      median_ms([&] { passes = passes_through_itself(mesh.positions, mesh.faces); });
+      bench::median_ms(kRuns, [&] { passes = passes_through_itself(mesh.positions, mesh.faces); });
   std::printf("| %s | %zu | %d | %.2f | %.2f | %.1fx | %s | %.2f |\n", name, mesh.faces.size(),
               count, cgal_ms, count_ms, cgal_ms / count_ms, passes ? "yes" : "no", passes_ms);
   if (count == static_cast<int>(pairs.size())) return true;
