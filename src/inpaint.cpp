@@ -32,9 +32,9 @@ constexpr int kStiffeningSteps = 4;
 constexpr double kStiffening = 10;
 constexpr double kSmallestStiffenedLambda = 1e-3;
 
-// A minimisation at a repulsion weaker than the default is looked at after
-// this many iterations, and given up at once when the patch passes through
-// itself there (see minimise_patch).
+// A watched minimisation (see RetryRules) is looked at after this many
+// iterations, and given up at once when the patch passes through itself
+// there (see minimise_patch).
 constexpr int kPassThroughCheck = 8;
 
 double seconds_since(Clock::time_point start) {

@@ -199,9 +199,10 @@ class BoxGrid {
 // the cells of a BoxGrid it overlaps (a counting sort by cell), and a pair is
 // visited in the one cell that holds the low corner of the boxes'
 // intersection, which both boxes overlap. A fill's faces are all of about one
-// size, so that a cell holds few boxes: CGAL's box_self_intersection_d (a
-// segment tree, used before) took 6.0 instead of 3.3 ms on the reference
-// curtain's ARAP start (5338 faces), of which the exact tests take 2.
+// size, so that a cell holds few boxes: with CGAL's box_self_intersection_d
+// (a segment tree, used before) the count took 6.3 to 7.1 instead of 3.3 ms
+// on the reference curtain's ARAP start (5338 faces), whose exact tests take
+// about 2 ms (docs/benchmarks.md).
 template <typename Visit>
 void for_each_overlapping_pair(const std::vector<FaceBox>& boxes, Visit visit) {
   const BoxGrid grid(boxes);
