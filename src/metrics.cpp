@@ -148,6 +148,10 @@ class BoxGrid {
     const double widest = *std::max_element(typical, extents.end());
     width_ = std::max(kTypicalWidth * *typical, widest / kMostCellsPerAxis);
     if (!(width_ > 0)) return;  // only point boxes (no nondegenerate face): no cell
+    if (!std::isfinite(span[0] + span[1] + span[2] + width_)) {
+      size_ = {1, 1, 1};  // coordinates too far apart to subtract: one cell for all
+      return;
+    }
     const double most_cells = kMaxCellsPerBox * static_cast<double>(boxes.size()) + 64;
     while (true) {
       double cells = 1;
@@ -176,7 +180,8 @@ class BoxGrid {
  private:
   // Monotone in x, so that a box's cells hold every point of it.
   int index(double x, int c) const {
-    return std::min(static_cast<int>((x - origin_[c]) * per_width_), size_[c] - 1);
+    const double at = (x - origin_[c]) * per_width_;
+    return at < size_[c] - 1 ? static_cast<int>(at) : size_[c] - 1;  // NaN: the last
   }
 
   // Cells 1.25 times as wide as the box extent (largest side) that 90% of

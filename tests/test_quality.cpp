@@ -220,6 +220,16 @@ TEST(SelfIntersections, PassingThroughItselfTakesFacesWithNoCommonVertex) {
   EXPECT_FALSE(passes_through_itself(positions, {{0, 1, 2}, {7, 8, 9}}));
 }
 
+// Coordinates so far apart that their differences overflow still give the
+// pairs (all boxes then share one cell).
+TEST(SelfIntersections, CountsFacesAsFarApartAsDoublesGo) {
+  const std::vector<Vec3> positions = with_right_triangle(
+      {{0.5, 0.5, -1}, {0.5, 0.5, 1}, {5, 5, 0}, {-1e308, 0, 5}, {-1e308, 1, 5}, {1e308, 1, 5}});
+  const std::vector<Tri> faces{{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  EXPECT_EQ(count_self_intersections(positions, faces), 1);
+  EXPECT_TRUE(passes_through_itself(positions, faces));
+}
+
 // bench_quality's comparison, on one folded sheet whose hole spans a fold:
 // the truth is the uncut sheet.
 struct Figures {
