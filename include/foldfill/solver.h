@@ -39,9 +39,9 @@ struct SolverOptions {
   double max_displacement = 0.2;
   // Called every iteration; returning false cancels (the best state is kept).
   std::function<bool(const SolverProgress&)> progress;
-  // Called once, after iteration `watch_iteration`, with the positions then
-  // (all domain vertices, normalised); returning false abandons the
-  // minimisation there (stop reason "abandoned", the best state kept).
+  // Called once, after iteration `watch_iteration` (0: never), with the
+  // positions then (all domain vertices, normalised); returning false abandons
+  // the minimisation there (stop reason "abandoned", the best state kept).
   int watch_iteration = 0;
   std::function<bool(const std::vector<Vec3>&)> watch;
 };
