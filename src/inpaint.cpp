@@ -137,6 +137,12 @@ SolverOptions with_time_left(SolverOptions solver, double budget_seconds, Clock:
   return solver;
 }
 
+// The intersecting pairs of a minimised patch (none among the strip's faces).
+int patch_pairs(const Minimised& minimised, const EmbedDomain& domain) {
+  return count_self_intersections(minimised.solved.positions, domain.faces,
+                                  domain.strip_face_count);
+}
+
 // One minimisation from `start`.
 Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& start,
                         const EnergyOptions& energy_options, const SolverOptions& solver,
@@ -146,16 +152,14 @@ Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& star
   result.solved = minimize_energy(*result.energy, obstacles, start, solver);
   report.iterations += result.solved.iterations;
   if (result.solved.stop_reason != "abandoned")
-    result.self_intersections =
-        count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
+    result.self_intersections = patch_pairs(result, domain);
   return result;
 }
 
 // Counts the pairs of an abandoned minimisation that is kept after all.
 Minimised count_if_abandoned(Minimised result, const EmbedDomain& domain) {
   if (result.solved.stop_reason == "abandoned")
-    result.self_intersections =
-        count_self_intersections(result.solved.positions, domain.faces, domain.strip_face_count);
+    result.self_intersections = patch_pairs(result, domain);
   return result;
 }
 

@@ -122,6 +122,41 @@ bool overlap(const FaceBox& a, const FaceBox& b) {
   return true;
 }
 
+// The boxes of the nondegenerate faces, and how many counted faces (index >=
+// counted_from) are degenerate: collinear or with a non-finite corner.
+std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                                int counted_from, int& degenerate_counted) {
+  const int face_count = static_cast<int>(faces.size());
+  counted_from = std::clamp(counted_from, 0, face_count);
+  degenerate_counted = 0;
+  std::vector<FaceBox> boxes;
+  boxes.reserve(faces.size());
+  const auto finite = [](const Vec3& p) {
+    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+  };
+  for (int f = 0; f < face_count; ++f) {
+    const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
+               &r = positions[faces[f][2]];
+    if (!finite(p) || !finite(q) || !finite(r) || CGAL::collinear(point(p), point(q), point(r))) {
+      degenerate_counted += f >= counted_from;
+      continue;
+    }
+    FaceBox box{{}, {}, f, f >= counted_from};
+    for (int c = 0; c < 3; ++c) {
+      box.low[c] = std::min({p[c], q[c], r[c]});
+      box.high[c] = std::max({p[c], q[c], r[c]});
+    }
+    boxes.push_back(box);
+  }
+  return boxes;
+}
+
+bool share_a_vertex(const Tri& f, const Tri& g) {
+  for (int v : f)
+    if (v == g[0] || v == g[1] || v == g[2]) return true;
+  return false;
+}
+
 // A uniform grid of cubic cells over boxes, about as wide as most boxes (see
 // the constants), so that a cell holds few boxes and a box overlaps few cells.
 class BoxGrid {
@@ -301,45 +336,6 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
   stats.variance = squares / curvature.size();
   return stats;
 }
-
-namespace {
-
-// The boxes of the nondegenerate faces, and how many counted faces (index >=
-// counted_from) are degenerate: collinear or with a non-finite corner.
-std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
-                                int counted_from, int& degenerate_counted) {
-  const int face_count = static_cast<int>(faces.size());
-  counted_from = std::clamp(counted_from, 0, face_count);
-  degenerate_counted = 0;
-  std::vector<FaceBox> boxes;
-  boxes.reserve(faces.size());
-  const auto finite = [](const Vec3& p) {
-    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-  };
-  for (int f = 0; f < face_count; ++f) {
-    const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
-               &r = positions[faces[f][2]];
-    if (!finite(p) || !finite(q) || !finite(r) || CGAL::collinear(point(p), point(q), point(r))) {
-      degenerate_counted += f >= counted_from;
-      continue;
-    }
-    FaceBox box{{}, {}, f, f >= counted_from};
-    for (int c = 0; c < 3; ++c) {
-      box.low[c] = std::min({p[c], q[c], r[c]});
-      box.high[c] = std::max({p[c], q[c], r[c]});
-    }
-    boxes.push_back(box);
-  }
-  return boxes;
-}
-
-bool share_a_vertex(const Tri& f, const Tri& g) {
-  for (int v : f)
-    if (v == g[0] || v == g[1] || v == g[2]) return true;
-  return false;
-}
-
-}  // namespace
 
 // The pairs PMP::self_intersections would find on the mesh, without building
 // it (the faces must form a manifold, as a fill's domain does; only a face
