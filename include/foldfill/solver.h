@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,10 +25,13 @@ struct SolverProgress {
 struct SolverOptions {
   SolverKind kind = SolverKind::Fast;
   int max_iterations = 20000;
-  double step = 0.05;                 // gradient descent: fixed step (normalised units)
-  double relative_energy_tol = 1e-9;  // stop when |dE| / E falls below this ...
-  double gradient_tol = 1e-6;         // ... or the RMS gradient per vertex falls below this
-  double time_limit_seconds = 0;      // 0: none
+  double step = 0.05;  // gradient descent: fixed step (normalised units)
+  // Stop when |dE| / E stays below this for 10 iterations in a row (unset:
+  // the method's own, 1e-9 for gradient descent, 1e-7 for Fast, which leave
+  // each about as close to its minimum: see solver.cpp) ...
+  std::optional<double> relative_energy_tol;
+  double gradient_tol = 1e-6;     // ... or when the RMS gradient per vertex falls below this
+  double time_limit_seconds = 0;  // 0: none
   // Fast: no vertex moves further than this in one step (normalised units), so
   // that the repulsion sees vertices approach before they pass each other;
   // each vertex's move is clipped on its own. Two vertices close in by at most
