@@ -10,7 +10,7 @@
 //   graph over the free vertices (the global matrix of projective dynamics, Bouaziz et al.
 //   2014, used as an L-BFGS preconditioner by Liu et al. 2017, "Quasi-Newton
 //   methods for real-time simulation of hyperelastic materials"), H_B the
-//   constant bending Hessian (left out on very large patches, see
+//   constant bending Hessian (left out on very large patches and where it weighs little, see
 //   preconditioner_matrix). gamma = s.y / y.P^-1.y from the newest curvature
 //   pair is the preconditioned form of the usual scaling; it took 308 instead
 //   of 404 iterations (gamma = 1) on Curtain. One solve per iteration: with z_k =
@@ -97,6 +97,7 @@ constexpr double kArmijo = 1e-4;                      // sufficient-decrease con
 constexpr int kMaxBacktracks = 40;                    // the step shrinks to 2^-40 at most
 constexpr double kRegularisation = 1e-8;              // relative to the mean diagonal of P
 constexpr int kLargestBendingPreconditioner = 40000;  // free vertices (see preconditioner_matrix)
+constexpr double kSmallestBendingShare = 0.01;        // of P's diagonal (ditto)
 // A vertex within this fraction of max_displacement of an obstacle, pressed
 // towards it, counts as touching it (see close_contact_gaps). sim2 took 1820
 // iterations with 1e-6 / 0.2 (only vertices on the surface), 342, 310 and
@@ -275,31 +276,56 @@ void add_spring_laplacian(const std::vector<FabricEnergy::Spring>& springs, int 
   }
 }
 
-// P = unit spring Laplacian + lambda * bending Hessian + eps I over the free
-// vertices (one coordinate), the preconditioner described at the top. The
-// two-ring model's bending springs enter like the edge springs, with weight
-// lambda.
+// Adds weight * the free block of `hessian` (over all domain vertices, the
+// first `fixed` of them fixed) to `entries`.
+void add_free_block(const Eigen::SparseMatrix<double>& hessian, int fixed, double weight,
+                    std::vector<Eigen::Triplet<double>>& entries) {
+  for (int col = fixed; col < hessian.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(hessian, col); it; ++it)
+      if (it.row() >= fixed)
+        entries.emplace_back(static_cast<int>(it.row()) - fixed, col - fixed, weight * it.value());
+}
+
+double diagonal_sum(const std::vector<Eigen::Triplet<double>>& entries) {
+  double sum = 0;
+  for (const Eigen::Triplet<double>& entry : entries)
+    if (entry.row() == entry.col()) sum += entry.value();
+  return sum;
+}
+
+// P = unit spring Laplacian + its bending part + eps I over the free vertices
+// (one coordinate), the preconditioner described at the top. The bending part
+// is lambda times the two-ring model's bending springs' Laplacian or the
+// quadratic model's bending Hessian. It makes the factor denser (a two-ring
+// stencil), and is left out where it buys too little:
+// - where it weighs under kSmallestBendingShare of the springs' diagonal. At
+//   the default lambda 2e-4 it weighs 0.2% (0.01 to 0.05% on coarse levels),
+//   at the prototype's weights 6% to 110% (paper2's lambda 7e-5: 0.07%): P is
+//   then the same operator to a fraction of a percent, and its solves 40%
+//   cheaper (dev06, callgrind). Left out at lambda 2e-4 (bench_fill --skip-gd
+//   --runs 3): dev02, dev04, dev05 and dev06 11 to 18% less time in the same
+//   minima, dev01 6%, the folded sheets 13 to 25% from 1k to 22k patch
+//   vertices; dev03 23% in another minimum, 2.3% higher. Left out at the
+//   prototype's weights (no rule does that now), it took Contour 112 instead
+//   of 82 iterations, paper1 38 instead of 21.
+// - on the quadratic model's patches above kLargestBendingPreconditioner free
+//   vertices, where the dearer solves outweigh the iterations it saves
+//   (measured on folded sheets: 336 instead of 436 iterations and 15% less
+//   time at 22k free vertices; at 120k, with the supernodal factor, whose
+//   factorisation is now cheap either way, 447 instead of 545 iterations but
+//   75% more time per iteration: its factor holds 106 instead of 42 entries
+//   per vertex).
 Eigen::SparseMatrix<double> preconditioner_matrix(const FabricEnergy& energy) {
   const int fixed = energy.domain().fixed_count;
   const int free_count = energy.domain().free_count();
   const double lambda = energy.options().lambda;
-  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<Eigen::Triplet<double>> entries, bending;
   add_spring_laplacian(energy.springs(), fixed, 1.0, entries);
-  add_spring_laplacian(energy.two_ring_springs(), fixed, lambda, entries);
-  // The bending block makes the factor denser (a two-ring stencil): above
-  // this size the dearer solves outweigh the iterations it saves (measured
-  // on folded sheets: 336 instead of 436 iterations and 15% less time at 22k
-  // free vertices; at 120k, with the supernodal factor, whose factorisation
-  // is now cheap either way, 447 instead of 545 iterations but 75% more time
-  // per iteration: its factor holds 106 instead of 42 entries per vertex).
-  if (free_count <= kLargestBendingPreconditioner) {
-    const Eigen::SparseMatrix<double>& bending = energy.bending_hessian();
-    for (int col = fixed; col < bending.outerSize(); ++col)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(bending, col); it; ++it)
-        if (it.row() >= fixed)
-          entries.emplace_back(static_cast<int>(it.row()) - fixed, col - fixed,
-                               lambda * it.value());
-  }
+  add_spring_laplacian(energy.two_ring_springs(), fixed, lambda, bending);
+  if (free_count <= kLargestBendingPreconditioner)
+    add_free_block(energy.bending_hessian(), fixed, lambda, bending);
+  if (diagonal_sum(bending) >= kSmallestBendingShare * diagonal_sum(entries))
+    entries.insert(entries.end(), bending.begin(), bending.end());
   Eigen::SparseMatrix<double> p(free_count, free_count);
   p.setFromTriplets(entries.begin(), entries.end());
 
