@@ -97,7 +97,7 @@ constexpr double kArmijo = 1e-4;                      // sufficient-decrease con
 constexpr int kMaxBacktracks = 40;                    // the step shrinks to 2^-40 at most
 constexpr double kRegularisation = 1e-8;              // relative to the mean diagonal of P
 constexpr int kLargestBendingPreconditioner = 40000;  // free vertices (see preconditioner_matrix)
-constexpr double kSmallestBendingShare = 0.01;        // of P's diagonal (ditto)
+constexpr double kSmallestBendingShare = 0.01;        // of the springs' diagonal (ditto)
 // A vertex within this fraction of max_displacement of an obstacle, pressed
 // towards it, counts as touching it (see close_contact_gaps). sim2 took 1820
 // iterations with 1e-6 / 0.2 (only vertices on the surface), 342, 310 and
