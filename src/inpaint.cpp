@@ -280,9 +280,7 @@ std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
 }
 
 bool all_finite(const std::vector<Vec3>& positions) {
-  return std::all_of(positions.begin(), positions.end(), [](const Vec3& p) {
-    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-  });
+  return std::all_of(positions.begin(), positions.end(), is_finite);
 }
 
 // Why a kept patch deserves a look, or empty.

@@ -131,13 +131,11 @@ std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::v
   degenerate_counted = 0;
   std::vector<FaceBox> boxes;
   boxes.reserve(faces.size());
-  const auto finite = [](const Vec3& p) {
-    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-  };
   for (int f = 0; f < face_count; ++f) {
     const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
                &r = positions[faces[f][2]];
-    if (!finite(p) || !finite(q) || !finite(r) || CGAL::collinear(point(p), point(q), point(r))) {
+    if (!is_finite(p) || !is_finite(q) || !is_finite(r) ||
+        CGAL::collinear(point(p), point(q), point(r))) {
       degenerate_counted += f >= counted_from;
       continue;
     }

@@ -23,9 +23,6 @@ Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] 
 Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-bool finite(const Vec3& a) {
-  return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]);
-}
 
 Vec3 rotate_z(const Vec3& v, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
@@ -59,7 +56,7 @@ Vec3 any_perpendicular(const Vec3& a) {
 
 // Checks the values of a parsed obstacle and makes its directions unit.
 Obstacle validated(Obstacle o, const std::string& where) {
-  if (!finite(o.center)) fail(where, "non-finite coordinate");
+  if (!is_finite(o.center)) fail(where, "non-finite coordinate");
   if (o.type != Obstacle::Type::Plane && !(std::isfinite(o.radius) && o.radius > 0)) {
     fail(where, "radius must be positive");
   }
@@ -137,7 +134,7 @@ Obstacle parse_json_entry(const JsonEntry& entry, const std::string& type) {
       o.axis = entry.vec3("axis");
     } else {
       const Vec3 angles = entry.vec3("euler_zxz");  // psi, phi, theta
-      if (!finite(angles)) fail(entry.where(), "non-finite angle");
+      if (!is_finite(angles)) fail(entry.where(), "non-finite angle");
       o.axis = axis_from_euler_zxz(angles[0], angles[1], angles[2]);
     }
   } else if (type == "plane") {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace foldfill {
@@ -9,6 +10,10 @@ namespace foldfill {
 using Vec2 = std::array<double, 2>;
 using Vec3 = std::array<double, 3>;
 using Tri = std::array<int, 3>;
+
+inline bool is_finite(const Vec3& p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
 
 // A triangle mesh as flat arrays. Faces index `positions` (0-based) and are
 // oriented counter-clockwise seen from their front side.
