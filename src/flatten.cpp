@@ -88,20 +88,47 @@ int corner_of(const std::vector<Tri>& faces, int face, int vertex) {
   return 3 * face + (f[0] == vertex ? 0 : f[1] == vertex ? 1 : 2);
 }
 
-// Number of fans (groups of faces joined by edges) around each vertex.
-std::vector<int> fan_counts(const std::vector<Tri>& faces, int vertex_count,
-                            const EdgeTopology& topology) {
+// The corners of `faces` grouped into fans: joined across interior edges.
+CornerSets fans_of_corners(const std::vector<Tri>& faces, const EdgeTopology& topology) {
   CornerSets corners(3 * static_cast<int>(faces.size()));
   for (const Edge& e : topology.edges) {
     if (e.is_boundary()) continue;
     for (int v : {e.v0, e.v1})
       corners.join(corner_of(faces, e.face[0], v), corner_of(faces, e.face[1], v));
   }
+  return corners;
+}
+
+// Number of fans (groups of faces joined by edges) around each vertex.
+std::vector<int> fan_counts(const std::vector<Tri>& faces, int vertex_count,
+                            const EdgeTopology& topology) {
+  CornerSets corners = fans_of_corners(faces, topology);
   std::vector<int> fans(vertex_count, 0);
   for (int f = 0; f < static_cast<int>(faces.size()); ++f)
     for (int k = 0; k < 3; ++k)
       if (corners.find(3 * f + k) == 3 * f + k) ++fans[faces[f][k]];
   return fans;
+}
+
+// `faces` with every fan but the first of each vertex below `loop_size` on a
+// new vertex of its own (numbered from `vertex_count` on, which is updated).
+std::vector<Tri> unpinch(const std::vector<Tri>& faces, int loop_size, const EdgeTopology& topology,
+                         int& vertex_count) {
+  CornerSets corners = fans_of_corners(faces, topology);
+  std::vector<Tri> result = faces;
+  std::vector<int> first_fan(loop_size, -1), copy_of_fan(3 * faces.size(), -1);
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = faces[f][k];
+      if (v >= loop_size) continue;
+      const int fan = corners.find(3 * f + k);
+      if (first_fan[v] < 0) first_fan[v] = fan;
+      if (fan == first_fan[v]) continue;
+      if (copy_of_fan[fan] < 0) copy_of_fan[fan] = vertex_count++;
+      result[f][k] = copy_of_fan[fan];
+    }
+  }
+  return result;
 }
 
 // Number of closed chains of boundary edges, given that every vertex has one
@@ -160,22 +187,31 @@ void check_flat_ring(const Strip& strip, const std::string& source,
   }
 
   const std::vector<int> fans = fan_counts(strip.faces, vertex_count, topology);
-  for (int v = 0; v < vertex_count; ++v) {
-    if (fans[v] <= 1) continue;
-    const std::string vertex = std::to_string(strip.to_input[v]);
-    if (v < strip.loop_size) throw not_a_disk("touches another boundary at vertex " + vertex);
-    throw not_a_disk("the faces around it pinch at vertex " + vertex +
-                     " (the hole comes back within one edge of itself there)");
+  for (int v = strip.loop_size; v < vertex_count; ++v) {
+    if (fans[v] > 1)
+      throw not_a_disk("the faces around it pinch at vertex " + std::to_string(strip.to_input[v]) +
+                       " (the hole comes back within one edge of itself there)");
   }
-
-  const int euler =
-      vertex_count - static_cast<int>(topology.edges.size()) + static_cast<int>(strip.faces.size());
-  const int boundaries = boundary_loop_count(vertex_count, topology);
+  // A loop vertex with several fans is one where the mesh's boundary was split
+  // (a hole touching the outer edge or another hole there): the ring is then
+  // checked with each extra fan on a copy of the vertex, which opens it into a
+  // disk (or a disk with islands). LSCM itself works on the pinched strip.
+  const bool pinched = std::any_of(fans.begin(), fans.begin() + strip.loop_size,
+                                   [](int count) { return count > 1; });
+  int ring_vertex_count = vertex_count;
+  std::vector<Tri> ring_faces;
+  if (pinched) {
+    ring_faces = unpinch(strip.faces, strip.loop_size, topology, ring_vertex_count);
+    topology = build_edge_topology(ring_faces, ring_vertex_count, source);
+  }
+  const int face_count = static_cast<int>(strip.faces.size());
+  const int euler = ring_vertex_count - static_cast<int>(topology.edges.size()) + face_count;
+  const int boundaries = boundary_loop_count(ring_vertex_count, topology);
   // A connected surface with b boundaries is planar (it lies flat) when its
   // Euler characteristic is 2 - b. An annulus (b = 2) is the usual strip; a
   // loop that comes back within an edge of itself gives a strip that bridges
   // the gap, a ring with islands (b > 2), which flattens as well.
-  if (boundaries < 2 || euler != 2 - boundaries)
+  if (boundaries < (pinched ? 1 : 2) || euler != 2 - boundaries)
     throw not_a_disk("the faces around it do not form a flat ring around the hole (" +
                      std::to_string(boundaries) + " boundary loops, Euler characteristic " +
                      std::to_string(euler) + "), so the hole is not a disk surrounded by surface");

@@ -158,8 +158,8 @@ LinkedBoundary link_boundary(const std::vector<Tri>& faces, const VertexFaces& v
   return linked;
 }
 
-// Follows `next` from every unvisited half-edge; each cycle becomes a loop's
-// vertex list starting at its smallest vertex.
+// Follows `next` from every unvisited half-edge; each cycle is a vertex list
+// starting at its smallest vertex.
 std::vector<std::vector<int>> trace_cycles(const std::vector<BoundaryHalfEdge>& half_edges,
                                            const std::vector<int>& next,
                                            const std::string& source) {
@@ -177,16 +177,77 @@ std::vector<std::vector<int>> trace_cycles(const std::vector<BoundaryHalfEdge>& 
       throw Error(ErrorKind::Internal, source + ": boundary chain from vertex " +
                                            std::to_string(vertices.front()) + " does not close");
     }
-    std::rotate(vertices.begin(), std::min_element(vertices.begin(), vertices.end()),
-                vertices.end());
     cycles.push_back(std::move(vertices));
   }
-  std::sort(cycles.begin(), cycles.end());
   return cycles;
+}
+
+// A boundary cycle that passes a pinched vertex more than once (a hole that
+// touches the outer edge or another hole at one vertex) split there into
+// simple cycles, each the boundary of one missing piece: walking the cycle,
+// the part between two visits of a vertex is closed off as a cycle of its
+// own. `position` (per vertex, all -1) is scratch space, left all -1.
+void split_at_repeated_vertices(const std::vector<int>& cycle, std::vector<int>& position,
+                                std::vector<std::vector<int>>& simple_cycles) {
+  std::vector<int> path;
+  for (int v : cycle) {
+    if (position[v] < 0) {
+      position[v] = static_cast<int>(path.size());
+      path.push_back(v);
+      continue;
+    }
+    const auto from = path.begin() + position[v];
+    for (auto it = from + 1; it != path.end(); ++it) position[*it] = -1;
+    simple_cycles.emplace_back(from, path.end());
+    path.erase(from + 1, path.end());
+  }
+  for (int v : path) position[v] = -1;
+  simple_cycles.push_back(std::move(path));
+}
+
+// The cycles of `traced`, those through pinched vertices split into simple
+// ones, each starting at its smallest vertex, sorted; `origin[i]` is the
+// traced cycle that simple cycle i came from.
+std::vector<std::vector<int>> simple_cycles(const std::vector<std::vector<int>>& traced,
+                                            const std::vector<char>& pinched,
+                                            std::vector<int>& origin) {
+  std::vector<std::pair<std::vector<int>, int>> cycles;
+  std::vector<int> position;
+  std::vector<std::vector<int>> pieces;
+  for (size_t c = 0; c < traced.size(); ++c) {
+    const std::vector<int>& cycle = traced[c];
+    pieces.clear();
+    if (std::any_of(cycle.begin(), cycle.end(), [&](int v) { return pinched[v] != 0; })) {
+      position.resize(pinched.size(), -1);
+      split_at_repeated_vertices(cycle, position, pieces);
+    } else {
+      pieces.push_back(cycle);
+    }
+    for (std::vector<int>& piece : pieces) {
+      std::rotate(piece.begin(), std::min_element(piece.begin(), piece.end()), piece.end());
+      cycles.emplace_back(std::move(piece), static_cast<int>(c));
+    }
+  }
+  std::sort(cycles.begin(), cycles.end());
+  std::vector<std::vector<int>> result;
+  origin.clear();
+  for (auto& [cycle, from] : cycles) {
+    result.push_back(std::move(cycle));
+    origin.push_back(from);
+  }
+  return result;
 }
 
 double distance(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+// The angle at `p` between the directions to `a` and `b`, in [0, pi].
+double corner_angle(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+  const Vec3 cross{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+  return std::atan2(std::hypot(cross[0], cross[1], cross[2]),
+                    u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
 }
 
 // Sum of the face angles at each vertex in `wanted` (others stay 0): one pass
@@ -196,14 +257,8 @@ std::vector<double> angle_sums(const Mesh& mesh, const std::vector<char>& wanted
   for (const Tri& f : mesh.faces) {
     for (int k = 0; k < 3; ++k) {
       if (!wanted[f[k]]) continue;
-      const Vec3& p = mesh.positions[f[k]];
-      const Vec3& a = mesh.positions[f[(k + 1) % 3]];
-      const Vec3& b = mesh.positions[f[(k + 2) % 3]];
-      const Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
-      const Vec3 cross{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                       u[0] * w[1] - u[1] * w[0]};
-      sums[f[k]] += std::atan2(std::hypot(cross[0], cross[1], cross[2]),
-                               u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+      sums[f[k]] += corner_angle(mesh.positions[f[k]], mesh.positions[f[(k + 1) % 3]],
+                                 mesh.positions[f[(k + 2) % 3]]);
     }
   }
   return sums;
@@ -216,7 +271,19 @@ void measure_turning(const Mesh& mesh, std::vector<BoundaryLoop>& loops) {
   }
   const std::vector<double> sums = angle_sums(mesh, on_loop);
   for (BoundaryLoop& loop : loops) {
-    for (int v : loop.vertices) loop.turning += sums[v] - M_PI;
+    const size_t n = loop.vertices.size();
+    for (size_t k = 0; k < n; ++k) {
+      const int v = loop.vertices[k];
+      const bool split =
+          std::find(loop.split_at.begin(), loop.split_at.end(), v) != loop.split_at.end();
+      // The faces at a vertex where the boundary was split lie around several
+      // missing pieces: the loop's own turns by pi less the angle between its
+      // edges there (as where the surface around it is flat).
+      loop.turning += split
+                          ? M_PI - corner_angle(loop.positions[k], loop.positions[(k + n - 1) % n],
+                                                loop.positions[(k + 1) % n])
+                          : sums[v] - M_PI;
+    }
   }
 }
 
@@ -244,9 +311,12 @@ BoundaryLoop make_loop(int id, std::vector<int> vertices, const std::vector<Vec3
   return loop;
 }
 
-// Marks the loops through pinched vertices as not disks, naming the first
-// pinched vertex along each loop and what the loop touches there.
-void flag_pinched_loops(std::vector<BoundaryLoop>& loops, const std::vector<char>& pinched) {
+// At each pinched vertex of a loop: the loops split from the same boundary
+// cycle share it (`split_at`); a loop from another cycle there (two pieces of
+// surface that meet at a point) makes the loop not a disk, naming the first
+// such vertex along it and the other loop.
+void flag_pinched_loops(std::vector<BoundaryLoop>& loops, const std::vector<int>& origin,
+                        const std::vector<char>& pinched) {
   struct Visit {
     int vertex, loop;
     bool operator<(const Visit& rhs) const {
@@ -262,22 +332,19 @@ void flag_pinched_loops(std::vector<BoundaryLoop>& loops, const std::vector<char
   std::sort(visits.begin(), visits.end());
 
   for (BoundaryLoop& loop : loops) {
-    const auto first = std::find_if(loop.vertices.begin(), loop.vertices.end(),
-                                    [&](int v) { return pinched[v] != 0; });
-    if (first == loop.vertices.end()) continue;
-    const int v = *first;
-    const auto begin = std::lower_bound(visits.begin(), visits.end(), Visit{v, -1});
-    const auto end = std::lower_bound(visits.begin(), visits.end(), Visit{v + 1, -1});
-    const auto own = std::equal_range(begin, end, Visit{v, loop.id});
-    const auto other =
-        std::find_if(begin, end, [&](const Visit& visit) { return visit.loop != loop.id; });
-    loop.is_disk = false;
-    if (own.second - own.first > 1 || other == end) {
-      loop.reason =
-          "touches itself at vertex " + std::to_string(v) + " (the surface is pinched there)";
-    } else {
-      loop.reason =
-          "touches loop " + std::to_string(other->loop) + " at vertex " + std::to_string(v);
+    for (int v : loop.vertices) {
+      if (!pinched[v]) continue;
+      const auto begin = std::lower_bound(visits.begin(), visits.end(), Visit{v, -1});
+      const auto end = std::lower_bound(visits.begin(), visits.end(), Visit{v + 1, -1});
+      const auto other = std::find_if(
+          begin, end, [&](const Visit& visit) { return origin[visit.loop] != origin[loop.id]; });
+      if (other == end) {
+        loop.split_at.push_back(v);
+      } else if (loop.is_disk) {
+        loop.is_disk = false;
+        loop.reason =
+            "touches loop " + std::to_string(other->loop) + " at vertex " + std::to_string(v);
+      }
     }
   }
 }
@@ -357,13 +424,15 @@ std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::strin
   const std::vector<BoundaryHalfEdge> half_edges = check_edges(mesh.faces, vertex_faces, source);
   const LinkedBoundary linked = link_boundary(mesh.faces, vertex_faces, half_edges, source);
 
-  std::vector<std::vector<int>> cycles = trace_cycles(half_edges, linked.next, source);
+  std::vector<int> origin;
+  std::vector<std::vector<int>> cycles =
+      simple_cycles(trace_cycles(half_edges, linked.next, source), linked.pinched, origin);
   std::vector<BoundaryLoop> loops;
   loops.reserve(cycles.size());
   for (auto& cycle : cycles) {
     loops.push_back(make_loop(static_cast<int>(loops.size()), std::move(cycle), mesh.positions));
   }
-  flag_pinched_loops(loops, linked.pinched);
+  flag_pinched_loops(loops, origin, linked.pinched);
   measure_turning(mesh, loops);
   return loops;
 }

@@ -265,24 +265,33 @@ int grid_vertex_at(const Mesh& mesh, double x, double y) {
   return 0;
 }
 
-TEST(ExtractStrip, RefusesALoopTouchingTheOuterBoundary) {
+TEST(ExtractStrip, FlattensAHoleSplitWhereItTouchesTheOuterBoundary) {
   // The hole: the cells of [1, 4] x [2, 4] and the triangle (0,2)-(1,2)-(1,3),
   // which reaches the grid's left side at vertex (0, 2) without taking a
-  // boundary edge, so the hole and the outer boundary share that vertex.
+  // boundary edge, so the hole and the outer boundary share that vertex. The
+  // boundary is split there; the hole's strip pinches at it but still lies
+  // flat around the hole.
   const Mesh mesh = grid_without(6, 6, [](int i, int j, bool upper) {
     return (i >= 1 && i < 4 && j >= 2 && j < 4) || (i == 0 && j == 2 && !upper);
   });
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, "grid.obj");
-  for (const BoundaryLoop& loop : loops) EXPECT_FALSE(loop.is_disk);
-  for (const BoundaryLoop& loop : loops) expect_not_a_disk(mesh, loop, "");
+  ASSERT_EQ(loops.size(), 2u);
+  const int corner = grid_vertex_at(mesh, 0, 2);
+  for (const BoundaryLoop& loop : loops) {
+    EXPECT_TRUE(loop.is_disk);
+    EXPECT_EQ(loop.split_at, std::vector<int>{corner});
+  }
+  const BoundaryLoop& hole = loops[0].length < loops[1].length ? loops[0] : loops[1];
+  EXPECT_EQ(hole.vertices.size(), 11u);
+  const Strip strip = extract_strip(mesh, hole, "grid.obj");
+  const Flattening flat = flatten_strip(strip, "grid.obj");
+  EXPECT_EQ(flat.flipped_triangles, 0);
+  EXPECT_TRUE(flat.simple_polygon);
+  EXPECT_LT(flat.edge_length_max_rel, 1e-6);
 
-  // Even a loop that claims to be a disk is refused by the strip check.
-  BoundaryLoop hole;
-  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
-           {0, 2}, {1, 2}, {2, 2}, {3, 2}, {4, 2}, {4, 3}, {4, 4}, {3, 4}, {2, 4}, {1, 4}, {1, 3}})
-    hole.vertices.push_back(grid_vertex_at(mesh, x, y));
-  expect_not_a_disk(mesh, hole,
-                    "touches another boundary at vertex " + std::to_string(hole.vertices[0]));
+  // The outer loop is split at the same vertex, but it is an outer edge.
+  const BoundaryLoop& outer = &hole == &loops[0] ? loops[1] : loops[0];
+  EXPECT_THROW(flatten_strip(extract_strip(mesh, outer, "grid.obj"), "grid.obj"), Error);
 }
 
 TEST(ExtractStrip, RefusesALoopWhoseStripIsNotAnAnnulus) {

@@ -294,32 +294,40 @@ TEST(Holes, BowtieLoopsAreNotDisks) {
             std::string::npos);
 }
 
-// Two holes meeting at a corner form one loop through that vertex twice.
-TEST(Holes, HoleTouchingItselfIsNotADisk) {
+// Two holes meeting at a corner: the boundary passes that vertex twice and is
+// split there into the two holes, each a disk boundary the default fills.
+TEST(Holes, TwoHolesMeetingAtACornerAreSplitThere) {
   const Mesh mesh = grid(4, {{1, 1}, {2, 2}});
   const auto loops = find_boundary_loops(mesh);
-  ASSERT_EQ(loops.size(), 2u);
-  EXPECT_TRUE(loops[0].is_disk);
-  const BoundaryLoop& hole = loops[1];
-  EXPECT_EQ(hole.vertices.size(), 8u);
-  EXPECT_EQ(std::count(hole.vertices.begin(), hole.vertices.end(), 12), 2);
-  EXPECT_FALSE(hole.is_disk);
-  EXPECT_EQ(hole.reason, "touches itself at vertex 12 (the surface is pinched there)");
+  ASSERT_EQ(loops.size(), 3u);
+  EXPECT_TRUE(loops[0].split_at.empty());
+  for (int id : {1, 2}) {
+    EXPECT_EQ(loops[id].vertices.size(), 4u);
+    EXPECT_EQ(std::count(loops[id].vertices.begin(), loops[id].vertices.end(), 12), 1);
+    EXPECT_TRUE(loops[id].is_disk);
+    EXPECT_EQ(loops[id].split_at, Ids({12}));
+    EXPECT_NEAR(loops[id].turning, 2 * M_PI, 1e-9);
+  }
   const HoleChoice choice = select_holes(loops, {});
-  EXPECT_TRUE(choice.fill.empty());
-  EXPECT_EQ(choice.warnings.size(), 1u);
-  EXPECT_THROW(select_holes(loops, by_ids({1})), Error);
+  EXPECT_EQ(choice.fill, Ids({1, 2}));
+  EXPECT_TRUE(choice.warnings.empty());
+  EXPECT_EQ(select_holes(loops, by_ids({1})).fill, Ids({1}));
 }
 
 // A strip around a square whose two ends meet at one vertex (5); vertex 0 is
-// left unreferenced.
-TEST(Holes, PinchedStripTouchesItself) {
+// left unreferenced. The boundary is split at 5 into the square's and the
+// outer one.
+TEST(Holes, AStripWhoseEndsMeetAtOneVertexIsSplitThere) {
   const Mesh mesh = grid(3, {{0, 0}, {1, 1}});
   const auto loops = find_boundary_loops(mesh);
-  ASSERT_EQ(loops.size(), 1u);
-  EXPECT_EQ(std::count(loops[0].vertices.begin(), loops[0].vertices.end(), 5), 2);
-  EXPECT_EQ(std::count(loops[0].vertices.begin(), loops[0].vertices.end(), 0), 0);
-  EXPECT_EQ(loops[0].reason, "touches itself at vertex 5 (the surface is pinched there)");
+  ASSERT_EQ(loops.size(), 2u);
+  for (const BoundaryLoop& loop : loops) {
+    EXPECT_EQ(std::count(loop.vertices.begin(), loop.vertices.end(), 5), 1);
+    EXPECT_EQ(std::count(loop.vertices.begin(), loop.vertices.end(), 0), 0);
+    EXPECT_TRUE(loop.is_disk);
+    EXPECT_EQ(loop.split_at, Ids({5}));
+  }
+  EXPECT_EQ(loops[0].vertices.size() + loops[1].vertices.size(), 16u);
 }
 
 TEST(Holes, ClosedFanWithDanglingTriangleThrows) {

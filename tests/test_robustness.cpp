@@ -191,12 +191,28 @@ TEST(NearlyTouchingLoop, CShapedHoleWhoseTipsComeWithinAnEdgeFills) {
   expect_sane_fill(cut.mesh, id);
 }
 
-TEST(NearlyTouchingLoop, CShapedHoleWhoseTipsTouchIsRefused) {
+// Where the tips touch, the boundary passes that vertex twice: it is split
+// there into the C's outline and the small hole left between the tips, each a
+// disk boundary of its own. The C's strip pinches where its tips nearly meet,
+// so it is refused with that reason.
+TEST(NearlyTouchingLoop, CShapedHoleWhoseTipsTouchIsSplitThere) {
   const DevelopableMesh cut = c_shaped_hole(1.5 * kEdge);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.mesh);
-  ASSERT_EQ(loops.size(), 2u);
-  const int id = loops[0].length < loops[1].length ? 0 : 1;
-  expect_refused(cut.mesh, id, "touches itself at vertex");
+  ASSERT_EQ(loops.size(), 3u);
+  const std::vector<int> holes = hole_ids(loops);
+  ASSERT_EQ(holes.size(), 2u);
+  const int c = loops[holes[0]].length > loops[holes[1]].length ? holes[0] : holes[1];
+  ASSERT_EQ(loops[c].split_at.size(), 1u);
+  const int v = loops[c].split_at[0];
+  const auto tips = std::find_if(loops.begin(), loops.end(), [&](const BoundaryLoop& loop) {
+    return loop.id != c && loop.split_at == std::vector<int>{v};
+  });
+  ASSERT_NE(tips, loops.end());
+  EXPECT_TRUE(loops[c].is_disk);
+  EXPECT_TRUE(tips->is_disk);
+  EXPECT_LT(tips->length, loops[c].length / 10);
+  EXPECT_TRUE(select_holes(loops, {}).warnings.empty());
+  expect_refused(cut.mesh, c, "pinch at vertex");
 }
 
 // A keyhole: a disk with a slot one or two edges wide running out of it.
@@ -255,18 +271,29 @@ TEST(NextToTheOuterEdge, TwoRingsAwayFills) {
   expect_sane_fill(mesh, only_hole(mesh));
 }
 
-TEST(NextToTheOuterEdge, TouchingItIsRefused) {
-  // One ring away, less a face that bridges the ring: the hole's boundary and
-  // the outer one then meet at that face's vertex on the hole, and the
-  // boundary runs through it twice.
+// One ring away, less a face that bridges the ring: the hole's boundary and
+// the outer one then meet at that face's vertex on the hole, and the boundary
+// runs through it twice. It is split there: the hole is a loop of its own,
+// chosen by the default (the outer edge is the longest), and filled.
+TEST(NextToTheOuterEdge, AHoleTouchingItAtOneVertexIsSplitOffAndFilled) {
   const Mesh mesh = hole_near_the_edge(1).mesh;
   const int bridge = bridge_face(mesh);
   ASSERT_GE(bridge, 0);
   const Mesh touching = without_faces(mesh, {bridge});
   const std::vector<BoundaryLoop> loops = find_boundary_loops(touching);
-  ASSERT_EQ(loops.size(), 1u);
-  EXPECT_FALSE(loops[0].is_disk);
-  expect_refused(touching, 0, "touches itself at vertex");
+  ASSERT_EQ(loops.size(), 2u);
+  const HoleChoice choice = select_holes(loops, {});
+  ASSERT_EQ(choice.fill.size(), 1u);
+  const BoundaryLoop& hole = loops[choice.fill[0]];
+  const BoundaryLoop& outer = loops[1 - choice.fill[0]];
+  EXPECT_TRUE(hole.is_disk);
+  EXPECT_TRUE(outer.is_disk);
+  EXPECT_TRUE(turns_like_a_hole(hole));
+  EXPECT_FALSE(turns_like_a_hole(outer));
+  ASSERT_EQ(hole.split_at.size(), 1u);
+  EXPECT_EQ(hole.split_at, outer.split_at);
+  EXPECT_TRUE(choice.warnings.empty());
+  expect_sane_fill(touching, choice.fill[0]);
 }
 
 // ---- Uneven edge lengths ----------------------------------------------------------

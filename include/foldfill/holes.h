@@ -26,15 +26,20 @@ struct BoundaryLoop {
   // 2 pi for a hole in nearly developable cloth (the missing piece is a disk),
   // about -2 pi for the outer edge of a sheet and about 0 for a sleeve's end.
   double turning = 0;
-  bool is_disk = true;  // false: it passes a pinched vertex (touches itself or another loop)
+  // Pinched vertices where the boundary passes more than once and was split
+  // into this loop and others (a hole touching the outer edge or another hole
+  // at one vertex), in loop order.
+  std::vector<int> split_at;
+  bool is_disk = true;  // false: it touches another piece of surface at a pinched vertex
   std::string reason;   // why it is not fillable, empty when it is
 };
 
 // Finds every boundary loop of `mesh`. Throws Error(NonManifold) naming
 // `source` for non-manifold edges, inconsistent orientation, or a vertex whose
 // faces form more than one fan when one of the fans is closed. A vertex
-// where boundary fans meet (a loop touching itself or another loop) is allowed
-// here: the loops through it are flagged `is_disk = false`.
+// where boundary fans meet is allowed: a boundary that passes it several times
+// is split there into simple loops, one per missing piece (`split_at`); loops
+// of pieces of surface that meet only there are flagged `is_disk = false`.
 std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::string& source = "mesh");
 
 // How the user picks the loops to fill.
