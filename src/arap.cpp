@@ -301,7 +301,8 @@ double solve_positions(const EmbedDomain& domain, const Neighbourhoods& hood,
 
 }  // namespace
 
-std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options) {
+std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options,
+                             const Budget& budget) {
   check_domain(domain);
   if (!(options.shrink > 0))
     throw Error(ErrorKind::Usage, "arap: the shrink factor must be positive");
@@ -309,14 +310,14 @@ std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& optio
     throw Error(ErrorKind::Usage, "arap: the tolerance must not be negative");
   Points x = initial_guess(domain);
 
-  if (domain.free_count() > 0 && options.iterations > 0) {
+  if (domain.free_count() > 0 && options.iterations > 0 && !budget.spent()) {
     const Neighbourhoods hood = build_neighbourhoods(domain, options.shrink);
     GlobalSystem system;
     build_global_system(domain, hood, system);
     std::vector<Frame> frames(domain.vertex_count());
     Points next;
     const double stop_move = options.tolerance * hood.mean_rest_edge_length;
-    for (int iteration = 0; iteration < options.iterations; ++iteration) {
+    for (int iteration = 0; iteration < options.iterations && !budget.spent(); ++iteration) {
       fit_rotations(hood, x, frames);
       if (solve_positions(domain, hood, frames, system, next, x) <= stop_move) break;
     }

@@ -129,14 +129,6 @@ struct Minimised {
   bool tangled() const { return self_intersections > 0 || solved.stop_reason == "abandoned"; }
 };
 
-// `solver` with its time limit cut to what is left of `budget_seconds` since
-// `since` (0: no limit, left as it is).
-SolverOptions with_time_left(SolverOptions solver, double budget_seconds, Clock::time_point since) {
-  if (budget_seconds > 0)
-    solver.time_limit_seconds = std::max(budget_seconds - seconds_since(since), 1e-9);
-  return solver;
-}
-
 // The intersecting pairs of a minimised patch (none among the strip's faces).
 int patch_pairs(const Minimised& minimised, const EmbedDomain& domain) {
   return count_self_intersections(minimised.solved.positions, domain.faces,
@@ -146,10 +138,11 @@ int patch_pairs(const Minimised& minimised, const EmbedDomain& domain) {
 // One minimisation from `start`.
 Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& start,
                         const EnergyOptions& energy_options, const SolverOptions& solver,
-                        const std::vector<Obstacle>& obstacles, HoleReport& report) {
+                        const std::vector<Obstacle>& obstacles, const Budget& budget,
+                        HoleReport& report) {
   Minimised result;
   result.energy.emplace(domain, energy_options);
-  result.solved = minimize_energy(*result.energy, obstacles, start, solver);
+  result.solved = minimize_energy(*result.energy, obstacles, start, solver, budget);
   report.iterations += result.solved.iterations;
   if (result.solved.stop_reason != "abandoned")
     result.self_intersections = patch_pairs(result, domain);
@@ -192,15 +185,13 @@ struct RetryRules {
 // while it only has to find its finer folds; if it intersects (or diverges)
 // all the same, the stiffer result is kept. report.lambda says which bending
 // weight the patch finally has, report.stiffened_retries how many stiffer
-// minimisations it took (at most rules.stiffening_steps). The time limit
-// covers them all.
+// minimisations it took (at most rules.stiffening_steps). `budget` covers
+// them all: none starts once it is spent.
 Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& initial,
                          const EnergyOptions& energy_options, const SolverOptions& solver,
-                         const std::vector<Obstacle>& obstacles, HoleReport& report,
-                         const RetryRules& rules = {}) {
-  const auto start = Clock::now();
-  const double deadline = solver.time_limit_seconds;
-  const auto out_of_time = [&] { return deadline > 0 && seconds_since(start) >= deadline; };
+                         const std::vector<Obstacle>& obstacles, const Budget& budget,
+                         HoleReport& report, const RetryRules& rules = {}) {
+  const auto out_of_time = [&] { return budget.spent(); };
   const auto finish = [&](Minimised kept, double lambda, double repulsion) {
     Minimised result = count_if_abandoned(std::move(kept), domain);
     report.lambda = lambda;
@@ -214,14 +205,14 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
     EnergyOptions weights = energy_options;
     weights.lambda = lambda;
     weights.repulsion = repulsion;
-    SolverOptions options = with_time_left(solver, deadline, start);
+    SolverOptions options = solver;
     if (watch || rules.watch_every_attempt) {
       options.watch_iteration = kPassThroughCheck;
       options.watch = [&domain](const std::vector<Vec3>& positions) {
         return !passes_through_itself(positions, domain.faces, domain.strip_face_count);
       };
     }
-    return minimise_once(domain, from, weights, options, obstacles, report);
+    return minimise_once(domain, from, weights, options, obstacles, budget, report);
   };
   const auto cancelled = [](const Minimised& m) { return m.solved.stop_reason == "cancelled"; };
 
@@ -264,15 +255,13 @@ Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& ini
 // 48 and 15 pairs, and ends with 30 and 50 after 130 and 210 iterations; of
 // the coarse levels of bench_fill's and bench_quality's cases, none that
 // passed through itself there came apart again.
-std::optional<std::vector<Vec3>> minimise_coarse_level(const EmbedDomain& level,
-                                                       const std::vector<Vec3>& start,
-                                                       EnergyOptions energy_options,
-                                                       const SolverOptions& solver,
-                                                       const std::vector<Obstacle>& obstacles) {
+std::optional<std::vector<Vec3>> minimise_coarse_level(
+    const EmbedDomain& level, const std::vector<Vec3>& start, EnergyOptions energy_options,
+    const SolverOptions& solver, const std::vector<Obstacle>& obstacles, const Budget& budget) {
   energy_options.repulsion = std::max(energy_options.repulsion, EnergyOptions{}.repulsion);
   HoleReport level_report;  // the hole's report is the fine level's
   Minimised minimised =
-      minimise_patch(level, start, energy_options, solver, obstacles, level_report,
+      minimise_patch(level, start, energy_options, solver, obstacles, budget, level_report,
                      RetryRules{/*stiffening_steps=*/1, /*watch_every_attempt=*/true});
   if (minimised.solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, "cancelled");
   if (minimised.tangled()) return std::nullopt;
@@ -289,6 +278,9 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
   if (report.stop_reason == "diverged")
     warning = "the minimisation diverged after " + std::to_string(report.iterations) +
               " iterations; its lowest-energy state was kept";
+  if (report.stop_reason == "time_limit")
+    warning = "the time limit stopped the minimisation after " + std::to_string(report.iterations) +
+              " iterations";
   if (report.self_intersections > 0)
     warning += (warning.empty() ? "" : "; ") + std::to_string(report.self_intersections) +
                " self-intersecting triangle pairs remain";
@@ -303,6 +295,9 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
   report.loop_vertex_count = static_cast<int>(loop.vertices.size());
   result.loop = loop.vertices;
   const auto start = Clock::now();
+  // The time limit counts from here; flattening and triangulation run to
+  // their end, the start and the minimisation stop where it passes.
+  const Budget budget(options.solver.time_limit_seconds, &context.cancelled);
 
   const std::string where = hole_source(context.source, loop.id);
   throw_if_cancelled(context, where);
@@ -341,26 +336,21 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
       return false;
     };
   }
-  // The time limit covers every level: each gets what the coarser ones left.
-  const auto minimisation_start = Clock::now();
-  const auto solver_for_level = [&] {
-    return with_time_left(solver, solver.time_limit_seconds, minimisation_start);
-  };
   const auto minimise_level = [&](const EmbedDomain& level, const std::vector<Vec3>& from) {
-    return minimise_coarse_level(level, from, energy_options, solver_for_level(), obstacles);
+    return minimise_coarse_level(level, from, energy_options, solver, obstacles, budget);
   };
   // The coarse-to-fine start is the fast solver's: gradient descent follows
   // the paper (ARAP, then descent), the reference the fast solver is held to.
   MultilevelOptions multilevel = options.multilevel;
   multilevel.enabled = multilevel.enabled && solver.kind == SolverKind::Fast;
-  const std::vector<Vec3> initial = multilevel_start(strip, flat, options.triangulate, domain,
-                                                     options.arap, multilevel, minimise_level);
+  const std::vector<Vec3> initial = multilevel_start(
+      strip, flat, options.triangulate, domain, options.arap, multilevel, minimise_level, budget);
   report.seconds.arap = seconds_since(stage);
 
   throw_if_cancelled(context, where);
   stage = Clock::now();
   const Minimised minimised =
-      minimise_patch(domain, initial, energy_options, solver_for_level(), obstacles, report);
+      minimise_patch(domain, initial, energy_options, solver, obstacles, budget, report);
   const SolverResult& solved = minimised.solved;
   report.seconds.optimize = seconds_since(stage);
   if (solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, where + ": cancelled");

@@ -156,9 +156,9 @@ std::vector<Vec3> interpolate_patch(const EmbedDomain& coarse,
 std::vector<Vec3> multilevel_start(const Strip& strip, const Flattening& flat,
                                    const TriangulateOptions& triangulate, const EmbedDomain& domain,
                                    const ArapOptions& arap, const MultilevelOptions& options,
-                                   const LevelMinimiser& minimise) {
-  if (!options.enabled || domain.free_count() < options.min_patch_vertices)
-    return arap_embed(domain, arap);
+                                   const LevelMinimiser& minimise, const Budget& budget) {
+  if (!options.enabled || domain.free_count() < options.min_patch_vertices || budget.spent())
+    return arap_embed(domain, arap, budget);
   if (!(options.coarsening > 1))
     throw Error(ErrorKind::Usage,
                 "multilevel coarsening must be above 1, not " + std::to_string(options.coarsening));
@@ -168,17 +168,17 @@ std::vector<Vec3> multilevel_start(const Strip& strip, const Flattening& flat,
       make_embed_domain(strip, flat, triangulate_hole(hole_polygon(strip, flat), coarser));
   // Along a loop of long edges a coarser density can leave the patch as it
   // is; recursing would then never end.
-  if (coarse.free_count() >= domain.free_count()) return arap_embed(domain, arap);
+  if (coarse.free_count() >= domain.free_count()) return arap_embed(domain, arap, budget);
   const std::vector<Vec3> coarse_start =
-      multilevel_start(strip, flat, coarser, coarse, arap, options, minimise);
+      multilevel_start(strip, flat, coarser, coarse, arap, options, minimise, budget);
   const std::optional<std::vector<Vec3>> coarse_end = minimise(coarse, coarse_start);
-  if (!coarse_end) return arap_embed(domain, arap);
+  if (!coarse_end) return arap_embed(domain, arap, budget);
   std::vector<Vec3> start = interpolate_patch(coarse, *coarse_end, domain);
   // Where the coarse patch folds tightly, a finer triangle across the fold
   // can cut through the next layer (the Curtain's hole at 2174 vertices from
   // 519: 51 pairs), and the minimisation cannot pull it back out.
   if (count_self_intersections(start, domain.faces, domain.strip_face_count) > 0)
-    return arap_embed(domain, arap);
+    return arap_embed(domain, arap, budget);
   return start;
 }
 

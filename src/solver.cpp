@@ -54,7 +54,6 @@
 #include "foldfill/solver.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -236,12 +235,17 @@ void close_contact_gaps(const std::vector<Contact>& contacts, VectorXd& motion) 
     motion.segment<3>(contact.offset) -= contact.clearance * contact.normal;
 }
 
-// One step of a method: replaces `current` by the next iterate, or returns
-// false when no step can lower the energy any more.
+enum class Advance {
+  Moved,    // `current` is the next iterate
+  Stuck,    // no step lowers the energy any more
+  Stopped,  // the budget was spent during the step; `current` is unchanged
+};
+
+// One step of a method: replaces `current` by the next iterate.
 class Stepper {
  public:
   virtual ~Stepper() = default;
-  virtual bool advance(Iterate& current) = 0;
+  virtual Advance advance(Iterate& current) = 0;
 };
 
 class GradientDescent final : public Stepper {
@@ -249,11 +253,11 @@ class GradientDescent final : public Stepper {
   GradientDescent(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles, double step)
       : energy_(energy), obstacles_(obstacles), step_(step) {}
 
-  bool advance(Iterate& current) override {
+  Advance advance(Iterate& current) override {
     current.x -= step_ * current.gradient;
     project_outside(obstacles_, current.x);
     evaluate(energy_, current);
-    return true;
+    return Advance::Moved;
   }
 
  private:
@@ -347,31 +351,34 @@ void clip_per_vertex(VectorXd& direction, double limit) {
 
 class Lbfgs final : public Stepper {
  public:
-  Lbfgs(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles, double max_displacement)
+  Lbfgs(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles, double max_displacement,
+        const Budget& budget)
       : energy_(energy),
         obstacles_(obstacles),
+        budget_(budget),
         max_displacement_(max_displacement),
         contact_reach_(kContactReach * max_displacement),
         factor_(preconditioner_matrix(energy), OrderingEffort::Thorough,
                 "solver: the preconditioner could not be factored") {}
 
-  bool advance(Iterate& current) override {
+  Advance advance(Iterate& current) override {
     if (!started_) pressed_ = prepare(current, reduced_, preconditioned_, contacts_);
     started_ = true;
     search_direction();
-    bool found = line_search(current);
-    if (!found && !pairs_.empty()) {
+    Search found = line_search(current);
+    if (found == Search::Failed && !pairs_.empty()) {
       // The pairs can give a poor direction (stale ones, or one that mostly
       // presses vertices into an obstacle): step along -P^-1 g this once.
       // Dropping the pairs instead took thousands of iterations on sim2.
       direction_ = -preconditioned_;
       found = line_search(current);
     }
-    if (!found) {  // near a contact P^-1 can point the wrong way (see the top of the file)
+    if (found == Search::Failed) {  // near a contact P^-1 can point the wrong way (see the top)
       direction_ = -reduced_;
       found = line_search(current);
     }
-    if (!found) return false;
+    if (found == Search::Stopped) return Advance::Stopped;
+    if (found == Search::Failed) return Advance::Stuck;
     const bool next_pressed = prepare(next_, next_reduced_, next_preconditioned_, next_contacts_);
     remember(current, pressed_ || next_pressed);
     std::swap(current, next_);
@@ -379,7 +386,7 @@ class Lbfgs final : public Stepper {
     std::swap(preconditioned_, next_preconditioned_);
     std::swap(contacts_, next_contacts_);
     pressed_ = next_pressed;
-    return true;
+    return Advance::Moved;
   }
 
  private:
@@ -437,22 +444,26 @@ class Lbfgs final : public Stepper {
     close_contact_gaps(contacts_, step_);
   }
 
+  enum class Search { Found, Failed, Stopped };
+
   // Backtracking along direction_, each vertex's move clipped to the maximum
   // displacement, until the projected trial point satisfies the Armijo
   // condition along the displacement it actually made; the result in next_.
-  bool line_search(const Iterate& current) {
-    if (!make_step(current)) return false;
+  // The budget is looked at before each trial point.
+  Search line_search(const Iterate& current) {
+    if (!make_step(current)) return Search::Failed;
     double t = 1;
     for (int k = 0; k < kMaxBacktracks; ++k, t *= 0.5) {
+      if (budget_.spent()) return Search::Stopped;
       next_.x = current.x + t * step_;
       project_outside(obstacles_, next_.x);
       const double predicted = std::min(current.gradient.dot(next_.x - current.x), 0.0);
       evaluate(energy_, next_);
       if (is_finite(next_) && next_.energy <= current.energy + kArmijo * predicted &&
           next_.energy < current.energy)
-        return true;
+        return Search::Found;
     }
-    return false;
+    return Search::Failed;
   }
 
   // Keeps the pair (s, y) of the step from `current` to next_ among the last
@@ -488,6 +499,7 @@ class Lbfgs final : public Stepper {
 
   const FabricEnergy& energy_;
   const std::vector<Obstacle>& obstacles_;
+  const Budget& budget_;
   double max_displacement_;
   double contact_reach_;  // see kContactReach
   PreconditionerFactor factor_;
@@ -518,10 +530,10 @@ void check_inputs(const FabricEnergy& energy, const std::vector<Vec3>& start,
 // Runs `stepper` under the shared stopping rules and returns the lowest-energy
 // iterate seen (the last one, unless gradient descent went up). The progress
 // callback's gradient_norm is the RMS per free vertex, the gradient_tol measure.
-// The time limit counts from `started`, so that it covers the set-up (the
-// preconditioner's factorisation) too.
+// The budget counts from the call of minimize_energy, so that it covers the
+// set-up (the preconditioner's factorisation) too.
 SolverResult run(const FabricEnergy& energy, Stepper& stepper, Iterate& current,
-                 const SolverOptions& options, std::chrono::steady_clock::time_point started) {
+                 const SolverOptions& options, const Budget& budget) {
   const double divergence_limit = kDivergenceFactor * current.energy;
   VectorXd best_x = current.x;
   double best_energy = current.energy;
@@ -535,11 +547,15 @@ SolverResult run(const FabricEnergy& energy, Stepper& stepper, Iterate& current,
     return result;
   };
 
+  const auto stopped = [&] { return finish(budget.cancelled() ? "cancelled" : "time_limit"); };
   while (true) {
     if (rms_gradient(current.gradient) < options.gradient_tol) return finish("converged");
     if (result.iterations >= options.max_iterations) return finish("max_iterations");
+    if (budget.spent()) return stopped();
     const double previous = current.energy;
-    if (!stepper.advance(current)) return finish("converged");
+    const Advance advanced = stepper.advance(current);
+    if (advanced == Advance::Stopped) return stopped();
+    if (advanced == Advance::Stuck) return finish("converged");
     ++result.iterations;
     if (!is_finite(current) || (divergence_limit > 0 && current.energy > divergence_limit))
       return finish("diverged");
@@ -557,17 +573,15 @@ SolverResult run(const FabricEnergy& energy, Stepper& stepper, Iterate& current,
                           std::max(current.energy, std::numeric_limits<double>::min());
     stalled = change < relative_tol ? stalled + 1 : 0;
     if (stalled >= kStallIterations) return finish("converged");
-    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - started;
-    if (options.time_limit_seconds > 0 && elapsed.count() >= options.time_limit_seconds)
-      return finish("time_limit");
   }
 }
 
 }  // namespace
 
 SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles,
-                             const std::vector<Vec3>& start, const SolverOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
+                             const std::vector<Vec3>& start, const SolverOptions& options,
+                             const Budget& budget) {
+  const Budget limited = budget.at_most(options.time_limit_seconds);
   check_inputs(energy, start, options);
   Iterate first;
   first.x = energy.variables(start);
@@ -576,13 +590,15 @@ SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obsta
   evaluate(energy, first);
   if (!is_finite(first)) return {start, 0, "diverged"};
   if (energy.domain().free_count() == 0) return {energy.positions(first.x), 0, "converged"};
+  if (limited.spent())  // before the preconditioner's factorisation
+    return {energy.positions(first.x), 0, limited.cancelled() ? "cancelled" : "time_limit"};
 
   if (options.kind == SolverKind::GradientDescent) {
     GradientDescent stepper(energy, obstacles, options.step);
-    return run(energy, stepper, first, options, started);
+    return run(energy, stepper, first, options, limited);
   }
-  Lbfgs stepper(energy, obstacles, options.max_displacement);
-  return run(energy, stepper, first, options, started);
+  Lbfgs stepper(energy, obstacles, options.max_displacement, limited);
+  return run(energy, stepper, first, options, limited);
 }
 
 }  // namespace foldfill

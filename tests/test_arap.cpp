@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -135,6 +136,15 @@ TEST(Arap, BentBoundaryGivesANearlyIsometricPatchOnTheCylinder) {
     worst_start =
         std::max(worst_start, std::abs(std::hypot(start[i][0], start[i][2] - radius) - radius));
   EXPECT_GT(worst_start, 0.1 * radius);
+}
+
+TEST(Arap, StopsWhenItsBudgetIsSpent) {
+  const EmbedDomain domain = lattice_domain(10, 9, onto_cylinder(2.0));
+  std::atomic<bool> cancel{true};
+  EXPECT_EQ(arap_embed(domain, {1.0, 30}, Budget(0, &cancel)), arap_embed(domain, {1.0, 0}));
+  EXPECT_EQ(arap_embed(domain, {1.0, 30}, Budget(1e-9)), arap_embed(domain, {1.0, 0}));
+  cancel = false;
+  EXPECT_EQ(arap_embed(domain, {1.0, 30}, Budget(1e6, &cancel)), arap_embed(domain, {1.0, 30}));
 }
 
 TEST(Arap, ShrunkRestShapeGivesShorterEdges) {

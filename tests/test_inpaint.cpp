@@ -359,24 +359,52 @@ TEST(InpaintRefusals, AnOuterEdgeIsNotFilled) {
   EXPECT_NE(hole.reason.find("outer edge"), std::string::npos) << hole.reason;
 }
 
+// A time limit that passes before the start is placed: ARAP, the coarse
+// levels and the minimisation all stop at once, and the hole is kept as it is
+// then (the flat patch on the loop), reported as stopped by the time limit.
+TEST(Inpaint, TimeLimitPassingBeforeTheStartStopsEveryStageAndSaysSo) {
+  const CutMesh cut = folded_sheet_with_hole(0.7);
+  FillOptions options;
+  options.solver.time_limit_seconds = 1e-9;
+  options.multilevel.min_patch_vertices = 10;  // a coarse start, were there time
+  const FillResult result = fill_default(cut.cut.mesh, options);
+  const HoleReport& hole = result.report.holes.at(0);
+  ASSERT_TRUE(hole.filled) << hole.reason;
+  EXPECT_EQ(hole.stop_reason, "time_limit");
+  EXPECT_EQ(hole.iterations, 0);
+  EXPECT_EQ(hole.stiffened_retries, 0);
+  EXPECT_NE(hole.warning.find("the time limit stopped the minimisation after 0 iterations"),
+            std::string::npos)
+      << hole.warning;
+  // Without a limit the same hole converges.
+  const FillResult unlimited = fill_default(cut.cut.mesh);
+  EXPECT_EQ(unlimited.report.holes.at(0).stop_reason, "converged");
+  EXPECT_GT(unlimited.report.holes.at(0).iterations, 0);
+}
+
+// A grid and a triangle that touches one of its corners: the two pieces meet
+// at that vertex only, so neither loop through it bounds a disk.
 TEST(InpaintRefusals, ALoopThatIsNotADiskNamesTheFileAndTheLoop) {
-  // Two missing squares that share a corner: the boundary passes it twice.
   Mesh grid;
   const int n = 6;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) grid.positions.push_back({double(i), double(j), 0});
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      if ((i == 2 && j == 2) || (i == 3 && j == 3)) continue;
       const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
       grid.faces.push_back({a, b, c});
       grid.faces.push_back({a, c, d});
     }
+  const int corner = 0, first = grid.vertex_count();
+  grid.positions.push_back({-1, 0, 0});
+  grid.positions.push_back({0, -1, 0});
+  grid.faces.push_back({corner, first, first + 1});
   const std::vector<BoundaryLoop> loops = find_boundary_loops(grid, "grid.obj");
+  ASSERT_EQ(loops.size(), 2u);
   std::vector<int> pinched;
   for (const BoundaryLoop& loop : loops)
     if (!loop.is_disk) pinched.push_back(loop.id);
-  ASSERT_FALSE(pinched.empty());
+  ASSERT_EQ(pinched.size(), 2u);
   const FillResult result = fill_holes(grid, loops, pinched, {}, "grid.obj");
   for (const HoleReport& hole : result.report.holes) {
     EXPECT_FALSE(hole.filled);
@@ -385,6 +413,37 @@ TEST(InpaintRefusals, ALoopThatIsNotADiskNamesTheFileAndTheLoop) {
         << hole.reason;
   }
   EXPECT_EQ(result.mesh.faces, grid.faces);
+}
+
+// Two missing squares of a waved grid that share a corner: the boundary passes
+// it twice and is split there; both holes are filled, and the output is a
+// manifold whose only loop is the outer one.
+TEST(Inpaint, TwoHolesMeetingAtACornerAreBothFilled) {
+  Mesh grid;
+  const int n = 8;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      grid.positions.push_back({double(i), double(j), 0.3 * std::sin(0.7 * i) * std::cos(0.5 * j)});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if ((i >= 2 && i < 4 && j >= 2 && j < 4) || (i >= 4 && i < 6 && j >= 4 && j < 6)) continue;
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      grid.faces.push_back({a, b, c});
+      grid.faces.push_back({a, c, d});
+    }
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(grid, "grid.obj");
+  ASSERT_EQ(loops.size(), 3u);
+  const HoleChoice choice = select_holes(loops, {});
+  ASSERT_EQ(choice.fill.size(), 2u);
+  const FillResult result = fill_holes(grid, loops, choice.fill, {}, "grid.obj");
+  for (const HoleReport& hole : result.report.holes) EXPECT_TRUE(hole.filled) << hole.reason;
+  EXPECT_TRUE(std::equal(grid.faces.begin(), grid.faces.end(), result.mesh.faces.begin()));
+  const std::vector<BoundaryLoop> after = find_boundary_loops(result.mesh, "filled.obj");
+  ASSERT_EQ(after.size(), 1u);
+  EXPECT_EQ(after[0].vertices.size(), 4u * n);
+  EXPECT_TRUE(after[0].split_at.empty());
+  EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, grid.face_count()),
+            0);
 }
 
 }  // namespace

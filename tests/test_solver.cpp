@@ -200,7 +200,7 @@ TEST(Solver, MaxIterationsAndTimeLimitAreHonoured) {
     options.time_limit_seconds = 1e-9;
     result = minimize_energy(problem.energy, {}, problem.start, options);
     EXPECT_EQ(result.stop_reason, "time_limit");
-    EXPECT_EQ(result.iterations, 1);
+    EXPECT_EQ(result.iterations, 0);  // it passed during the set-up
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "foldfill/budget.h"
 #include "foldfill/domain.h"
 
 namespace foldfill {
@@ -24,7 +25,10 @@ struct ArapOptions {
 // Returns positions (normalised, as in the domain) of all domain vertices;
 // fixed vertices keep their positions. Starts from the flat patch mapped by
 // the best-fitting similarity of the flat loop onto its 3D positions. The
-// cotan system is factored once; iterates until the tolerance or the cap.
-std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options = {});
+// cotan system is factored once; iterates until the tolerance or the cap, or
+// until `budget` is spent (looked at before each iteration; the positions
+// reached are returned).
+std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options = {},
+                             const Budget& budget = {});
 
 }  // namespace foldfill

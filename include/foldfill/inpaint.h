@@ -108,8 +108,11 @@ struct FillResult {
 // with non-finite positions. `mesh`'s own vertices and faces come out
 // unchanged, the patches' are appended in the order of `fill_ids`.
 //
-// Limits: options.solver.max_iterations and time_limit_seconds bound the
-// minimisation of each hole (the time limit covers its retries too). When the
+// Limits: options.solver.max_iterations bounds each minimisation of a hole;
+// options.solver.time_limit_seconds the hole's fill, counted from its start:
+// flattening and triangulation run to their end, the start (ARAP, coarse
+// levels) and the minimisation with its retries stop when it passes (see
+// Budget), and the hole keeps the state reached (stop reason "time_limit"). When the
 // progress callback returns false, the fill is cancelled: the holes being
 // minimised then and the ones not started are left open with the reason
 // "cancelled", report.cancelled is set, and holes already finished stay

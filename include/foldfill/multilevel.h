@@ -50,10 +50,12 @@ using LevelMinimiser = std::function<std::optional<std::vector<Vec3>>(
 // `minimise` and interpolated (interpolate_patch), unless `minimise` gives
 // nothing or the interpolated start intersects itself: then from ARAP too.
 // Every level shares the loop, the strip and the normalisation of the fine one.
+// Every ARAP start stops when `budget` is spent (`minimise` is expected to
+// honour it as well).
 std::vector<Vec3> multilevel_start(const Strip& strip, const Flattening& flat,
                                    const TriangulateOptions& triangulate, const EmbedDomain& domain,
                                    const ArapOptions& arap, const MultilevelOptions& options,
-                                   const LevelMinimiser& minimise);
+                                   const LevelMinimiser& minimise, const Budget& budget = {});
 
 // Positions of `fine`'s vertices from `coarse_positions` (all of `coarse`'s
 // vertices), linear over each coarse patch triangle in the shared rest plane:

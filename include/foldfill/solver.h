@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "foldfill/budget.h"
 #include "foldfill/energy.h"
 #include "foldfill/obstacles.h"
 
@@ -58,8 +59,15 @@ struct SolverResult {
 };
 
 // Minimises `energy` from `start` (all domain vertices), keeping free vertices
-// outside `obstacles` (in normalised coordinates) by projection.
+// outside `obstacles` (in normalised coordinates) by projection. It stops at
+// the earlier of `budget`'s deadline and options.time_limit_seconds from the
+// call (stop reason "time_limit"), or when `budget` is cancelled
+// ("cancelled"), keeping the best state: both are looked at before each
+// iteration and before each trial point of the line search, so the work past
+// them is at most one energy evaluation, or the preconditioner's
+// factorisation when they pass during it.
 SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles,
-                             const std::vector<Vec3>& start, const SolverOptions& options = {});
+                             const std::vector<Vec3>& start, const SolverOptions& options = {},
+                             const Budget& budget = {});
 
 }  // namespace foldfill
