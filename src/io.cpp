@@ -36,44 +36,91 @@ void require_text(std::string_view bytes, const std::string& source) {
   }
 }
 
+std::string_view skip_byte_order_mark(std::string_view bytes, const std::string& source) {
+  if (starts_with(bytes, kUtf8ByteOrderMark)) return bytes.substr(kUtf8ByteOrderMark.size());
+  // UTF-32's marks begin with UTF-16's little-endian one, so they come first.
+  constexpr std::pair<std::string_view, const char*> kOtherMarks[] = {
+      {{"\xFF\xFE\0\0", 4}, "UTF-32"},
+      {{"\0\0\xFE\xFF", 4}, "UTF-32"},
+      {"\xFF\xFE", "UTF-16"},
+      {"\xFE\xFF", "UTF-16"}};
+  for (const auto& [mark, encoding] : kOtherMarks) {
+    if (starts_with(bytes, mark)) {
+      fail(ErrorKind::BadFormat, source,
+           std::string(encoding) + " text is not supported; save it as UTF-8 or ASCII");
+    }
+  }
+  return bytes;
+}
+
+void require_line_feeds(std::string_view text, const std::string& source) {
+  if (text.find('\n') == std::string_view::npos && text.find('\r') != std::string_view::npos) {
+    fail(ErrorKind::BadFormat, source,
+         "line ends are CR only (classic Mac text); convert them to LF");
+  }
+}
+
+std::string_view text_content(std::string_view bytes, const std::string& source) {
+  const std::string_view text = skip_byte_order_mark(bytes, source);
+  require_text(text, source);
+  require_line_feeds(text, source);
+  return text;
+}
+
 namespace {
 
-// Where a face is, for messages: "line 12: " in a text file, else "face 7: ".
-std::string face_location(size_t face, const std::vector<int>& face_lines) {
-  if (!face_lines.empty()) return "line " + std::to_string(face_lines[face]) + ": ";
+// Where the vertices and faces of a mesh are in its file, for messages.
+struct Locations {
+  const std::vector<int>& vertex_lines;  // or empty
+  const std::vector<int>& face_lines;    // or empty
+  bool obj_indices;
+};
+
+// A face, for messages: "line 12: " in a text file, else "face 7: ".
+std::string face_location(size_t face, const Locations& where) {
+  if (!where.face_lines.empty()) return "line " + std::to_string(where.face_lines[face]) + ": ";
   return "face " + std::to_string(face) + ": ";
 }
 
-void validate_positions(const Mesh& mesh, const std::string& source, int index_base) {
+// The file's own number of the item `index` (from 0) when it counts from 1.
+std::string obj_index(int64_t index, const Locations& where) {
+  return where.obj_indices ? "OBJ index " + std::to_string(index + 1) : "";
+}
+
+void validate_positions(const Mesh& mesh, const std::string& source, const Locations& where) {
   for (size_t v = 0; v < mesh.positions.size(); ++v) {
     for (double coordinate : mesh.positions[v]) {
       if (!std::isfinite(coordinate)) {
+        const std::string line = where.vertex_lines.empty()
+                                     ? ""
+                                     : " (line " + std::to_string(where.vertex_lines[v]) + ")";
         fail(ErrorKind::NonFiniteCoordinate, source,
-             "vertex " + std::to_string(v + index_base) + " has a non-finite coordinate (" +
+             "vertex " + std::to_string(v) + line + " has a non-finite coordinate (" +
                  std::to_string(coordinate) + ")");
       }
     }
   }
 }
 
-void validate_faces(const Mesh& mesh, const std::string& source, const std::vector<int>& face_lines,
-                    int index_base) {
+void validate_faces(const Mesh& mesh, const std::string& source, const Locations& where) {
   const int vertex_count = mesh.vertex_count();
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
     const Tri& face = mesh.faces[f];
     for (int v : face) {
       if (v < 0 || v >= vertex_count) {
+        const std::string file_index = obj_index(v, where);
         fail(ErrorKind::BadFace, source,
-             face_location(f, face_lines) + "face index " +
-                 std::to_string(int64_t{v} + index_base) + " out of range (mesh has " +
-                 std::to_string(vertex_count) + " vertices)");
+             face_location(f, where) + "face vertex " + std::to_string(v) +
+                 " out of range (mesh has " + count_of(vertex_count, "vertex", "vertices") +
+                 (file_index.empty() ? "" : "; " + file_index) + ")");
       }
     }
     if (face[0] == face[1] || face[1] == face[2] || face[2] == face[0]) {
       const int repeated = face[1] == face[2] ? face[1] : face[0];
+      const std::string file_index = obj_index(repeated, where);
       fail(ErrorKind::BadFace, source,
-           face_location(f, face_lines) + "face repeats vertex " +
-               std::to_string(int64_t{repeated} + index_base));
+           face_location(f, where) + "face repeats vertex " + std::to_string(repeated) +
+               (file_index.empty() ? "" : " (" + file_index + ")"));
     }
   }
 }
@@ -81,8 +128,7 @@ void validate_faces(const Mesh& mesh, const std::string& source, const std::vect
 // Checks per-face attribute indices (-1: absent) against `attribute_count`.
 void validate_face_attributes(const Mesh& mesh, const std::vector<Tri>& face_attributes,
                               size_t attribute_count, const char* attribute,
-                              const std::string& source, const std::vector<int>& face_lines,
-                              int index_base) {
+                              const std::string& source, const Locations& where) {
   if (face_attributes.empty()) return;
   if (face_attributes.size() != mesh.faces.size()) {
     fail(ErrorKind::BadFace, source,
@@ -92,25 +138,33 @@ void validate_face_attributes(const Mesh& mesh, const std::vector<Tri>& face_att
   for (size_t f = 0; f < face_attributes.size(); ++f) {
     for (int index : face_attributes[f]) {
       if (index < -1 || (index >= 0 && static_cast<size_t>(index) >= attribute_count)) {
+        const std::string file_index = obj_index(index, where);
         fail(ErrorKind::BadFace, source,
-             face_location(f, face_lines) + attribute + " index " +
-                 std::to_string(int64_t{index} + index_base) + " out of range (mesh has " +
-                 std::to_string(attribute_count) + ")");
+             face_location(f, where) + attribute + " " + std::to_string(index) +
+                 " out of range (mesh has " + std::to_string(attribute_count) +
+                 (file_index.empty() ? "" : "; " + file_index) + ")");
       }
     }
   }
 }
 
+void validate(const Mesh& mesh, const std::string& source, const Locations& where) {
+  validate_positions(mesh, source, where);
+  validate_faces(mesh, source, where);
+  validate_face_attributes(mesh, mesh.face_texcoords, mesh.texcoords.size(), "texture coordinate",
+                           source, where);
+  validate_face_attributes(mesh, mesh.face_normals, mesh.normals.size(), "normal", source, where);
+}
+
 }  // namespace
 
-void validate_mesh(const Mesh& mesh, const std::string& source, const std::vector<int>& face_lines,
-                   int index_base) {
-  validate_positions(mesh, source, index_base);
-  validate_faces(mesh, source, face_lines, index_base);
-  validate_face_attributes(mesh, mesh.face_texcoords, mesh.texcoords.size(), "texture coordinate",
-                           source, face_lines, index_base);
-  validate_face_attributes(mesh, mesh.face_normals, mesh.normals.size(), "normal", source,
-                           face_lines, index_base);
+void validate_parsed(const ParsedMesh& parsed, const std::string& source) {
+  validate(parsed.mesh, source, {parsed.vertex_lines, parsed.face_lines, parsed.obj_indices});
+}
+
+void validate_mesh(const Mesh& mesh, const std::string& source) {
+  const std::vector<int> none;
+  validate(mesh, source, {none, none, false});
 }
 
 }  // namespace io_detail
@@ -163,12 +217,15 @@ MeshFormat format_from_path(const std::string& path) {
 }
 
 Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source) {
-  if (std::all_of(bytes.begin(), bytes.end(), io_detail::is_space)) {
+  const std::string_view content = io_detail::starts_with(bytes, io_detail::kUtf8ByteOrderMark)
+                                       ? bytes.substr(io_detail::kUtf8ByteOrderMark.size())
+                                       : bytes;
+  if (std::all_of(content.begin(), content.end(), io_detail::is_space)) {
     fail(ErrorKind::BadFormat, source, "empty file");
   }
   ParsedMesh parsed = parse_format(bytes, format, source);
   if (parsed.mesh.faces.empty()) fail(ErrorKind::BadFormat, source, "no faces");
-  io_detail::validate_mesh(parsed.mesh, source, parsed.face_lines, parsed.index_base);
+  io_detail::validate_parsed(parsed, source);
   return std::move(parsed.mesh);
 }
 

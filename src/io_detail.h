@@ -31,18 +31,44 @@ std::string excerpt(std::string_view text);
 // Throws BadFormat if a text format holds binary data (a NUL byte).
 void require_text(std::string_view bytes, const std::string& source);
 
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
+inline bool starts_with(std::string_view text, std::string_view prefix) {
+  return text.substr(0, prefix.size()) == prefix;
+}
+
+// `bytes` without a leading UTF-8 byte order mark, which some editors write
+// and which would otherwise glue onto the first word. Throws BadFormat for the
+// byte order mark of UTF-16 or UTF-32 text, naming the encoding.
+std::string_view skip_byte_order_mark(std::string_view bytes, const std::string& source);
+
+// Throws BadFormat for classic Mac text: `text` has CR line ends and no LF.
+// The readers count lines by LF, so such a file would read as one line.
+void require_line_feeds(std::string_view text, const std::string& source);
+
+// The text of a file in a text format (OBJ, OFF, ASCII STL): without its
+// UTF-8 byte order mark, checked by require_text and require_line_feeds.
+std::string_view text_content(std::string_view bytes, const std::string& source);
+
+// "1 face", "3 faces": `count` and the noun for it.
+inline std::string count_of(long long count, const char* one, const char* many) {
+  return std::to_string(count) + " " + (count == 1 ? one : many);
+}
+
 // A parsed mesh with what the validation needs to point at a culprit.
 struct ParsedMesh {
   Mesh mesh;
-  std::vector<int> face_lines;  // line of each face in a text file, or empty
-  int index_base = 0;           // how the file numbers vertices (1 for OBJ)
+  std::vector<int> vertex_lines;  // line of each vertex in a text file, or empty
+  std::vector<int> face_lines;    // line of each face in a text file, or empty
+  bool obj_indices = false;       // messages add the file's own 1-based index (OBJ)
 };
 
 // Checks finite coordinates, face (and OBJ attribute) indices in range and
 // three distinct vertices per face; throws NonFiniteCoordinate or BadFace.
-// Faces are located by `face_lines` when given, else by their index.
-void validate_mesh(const Mesh& mesh, const std::string& source,
-                   const std::vector<int>& face_lines = {}, int index_base = 0);
+// Messages count vertices and faces from 0, as the mesh does, and add the line
+// where the file gives it: "vertex 4 (line 6)", "line 9: face repeats vertex 3".
+void validate_parsed(const ParsedMesh& parsed, const std::string& source);
+void validate_mesh(const Mesh& mesh, const std::string& source);
 
 // Appends the polygon `corners` (at least 3) as the fan (c0, ci, ci+1).
 inline void append_fan(const std::vector<int>& corners, std::vector<Tri>& faces) {
@@ -55,8 +81,8 @@ inline void append_fan(const std::vector<int>& corners, std::vector<Tri>& faces)
 template <class Input>
 void require_polygon(const Input& input, long long corner_count) {
   if (corner_count < 3) {
-    input.fail(ErrorKind::BadFace,
-               "face with " + std::to_string(corner_count) + " vertices (at least 3 needed)");
+    input.fail(ErrorKind::BadFace, "face with " + count_of(corner_count, "vertex", "vertices") +
+                                       " (at least 3 needed)");
   }
 }
 
@@ -133,7 +159,8 @@ class TextCursor {
     }
   }
 
-  // The next number, which must end at a separator.
+  // The next number, which must end at a separator. An integer written with a
+  // fraction or an exponent ("1.5", "3e0") is refused as such.
   template <class Number>
   Number next_number() {
     skip_separators();
@@ -152,6 +179,12 @@ class TextCursor {
     if (first != end_ && *first == '+' && first + 1 != end_ && first[1] != '-') ++first;
     Number value{};
     auto [last, error] = std::from_chars(first, end_, value);
+    if constexpr (std::is_integral_v<Number>) {
+      if (error == std::errc::invalid_argument ||
+          (last != end_ && (*last == '.' || *last == 'e' || *last == 'E'))) {
+        fail_if_not_integer(first);
+      }
+    }
     if (error == std::errc::invalid_argument) fail_not_a_number(pos_);
     if (error == std::errc::result_out_of_range) {
       if constexpr (std::is_floating_point_v<Number>) {
@@ -198,6 +231,19 @@ class TextCursor {
     if (word_end == start) fail(ErrorKind::BadFormat, "expected a number");
     fail(ErrorKind::BadFormat,
          "expected a number, found " + excerpt({start, size_t(word_end - start)}));
+  }
+
+  // Throws BadFormat when the token at `first` (up to a separator or an OBJ
+  // `/`) is a number but not an integer.
+  void fail_if_not_integer(const char* first) const {
+    const char* token_end = first;
+    while (token_end != end_ && !is_space(*token_end) && *token_end != '/') ++token_end;
+    double value;
+    const auto [last, error] = std::from_chars(first, token_end, value);
+    if (last == token_end && error != std::errc::invalid_argument) {
+      fail(ErrorKind::BadFormat,
+           "an integer is needed, found " + excerpt({pos_, size_t(token_end - pos_)}));
+    }
   }
 
   // from_chars reports over- and underflow without a value; strtod gives it.

@@ -18,6 +18,7 @@ class ObjParser {
       const std::string_view keyword = cursor_.next_word();
       if (keyword == "v") {
         mesh().positions.push_back(read_numbers<3>());
+        parsed_.vertex_lines.push_back(cursor_.line());
       } else if (keyword == "vt") {
         read_texcoord();
       } else if (keyword == "vn") {
@@ -29,7 +30,7 @@ class ObjParser {
     }
     if (!any_texcoord_) mesh().face_texcoords.clear();
     if (!any_normal_) mesh().face_normals.clear();
-    parsed_.index_base = 1;
+    parsed_.obj_indices = true;
     return std::move(parsed_);
   }
 
@@ -64,7 +65,7 @@ class ObjParser {
   }
 
   void read_corner() {
-    positions_.push_back(read_index("face", mesh().positions.size()));
+    positions_.push_back(read_index("vertex", mesh().positions.size()));
     int texcoord = -1;
     int normal = -1;
     if (cursor_.peek() == '/') {
@@ -87,14 +88,15 @@ class ObjParser {
   }
 
   // A 1-based or negative (relative to the `defined` items so far) index,
-  // made 0-based. Positive indices are range-checked by validation.
+  // made 0-based. Positive indices are range-checked by validation. The
+  // message quotes the index as written, named as OBJ's own.
   int read_index(const char* what, size_t defined) {
     const long long index = cursor_.number_prefix<long long>();
     const long long resolved = index < 0 ? static_cast<long long>(defined) + index : index - 1;
     if (index == 0 || resolved < 0 || resolved > INT_MAX) {
-      cursor_.fail(ErrorKind::BadFace, std::string(what) + " index " + std::to_string(index) +
-                                           " out of range (" + std::to_string(defined) +
-                                           " defined so far)");
+      cursor_.fail(ErrorKind::BadFace, std::string("OBJ ") + what + " index " +
+                                           std::to_string(index) + " out of range (" +
+                                           std::to_string(defined) + " defined so far)");
     }
     return static_cast<int>(resolved);
   }
@@ -115,8 +117,7 @@ bool has_all(const std::vector<Tri>& face_attributes, size_t face) {
 }  // namespace
 
 ParsedMesh parse_obj(std::string_view bytes, const std::string& source) {
-  require_text(bytes, source);
-  return ObjParser(bytes, source).parse();
+  return ObjParser(text_content(bytes, source), source).parse();
 }
 
 // A face corner gets its texture coordinate / normal only when all three

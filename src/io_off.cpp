@@ -14,11 +14,13 @@ bool is_off_header(std::string_view word) {
   return prefix.find_first_not_of("STCN") == std::string_view::npos;
 }
 
-void read_vertices(TextCursor& cursor, long long vertex_count, Mesh& mesh) {
+void read_vertices(TextCursor& cursor, long long vertex_count, ParsedMesh& parsed) {
   cursor.require_items(vertex_count, 3, "vertices");
-  mesh.positions.resize(static_cast<size_t>(vertex_count));
-  for (Vec3& position : mesh.positions) {
+  parsed.mesh.positions.resize(static_cast<size_t>(vertex_count));
+  parsed.vertex_lines.reserve(static_cast<size_t>(vertex_count));
+  for (Vec3& position : parsed.mesh.positions) {
     for (double& coordinate : position) coordinate = cursor.next_number<double>();
+    parsed.vertex_lines.push_back(cursor.line());
     cursor.next_line();
   }
 }
@@ -36,9 +38,9 @@ void read_faces(TextCursor& cursor, long long face_count, ParsedMesh& parsed) {
     for (long long c = 0; c < corner_count; ++c) {
       const auto index = cursor.next_number<long long>();
       if (index < 0 || index >= vertex_count) {
-        cursor.fail(ErrorKind::BadFace, "face index " + std::to_string(index) +
+        cursor.fail(ErrorKind::BadFace, "face vertex " + std::to_string(index) +
                                             " out of range (mesh has " +
-                                            std::to_string(vertex_count) + " vertices)");
+                                            count_of(vertex_count, "vertex", "vertices") + ")");
       }
       corners.push_back(static_cast<int>(index));
     }
@@ -46,13 +48,19 @@ void read_faces(TextCursor& cursor, long long face_count, ParsedMesh& parsed) {
     parsed.face_lines.insert(parsed.face_lines.end(), corners.size() - 2, cursor.line());
     cursor.next_line();
   }
+  // A count lower than the faces that follow would silently drop faces, which
+  // opens a false hole; so anything but comments after them is refused.
+  cursor.skip_separators();
+  if (!cursor.at_end()) {
+    cursor.fail(ErrorKind::BadFormat, "data beyond the " + count_of(face_count, "face", "faces") +
+                                          " the header declares");
+  }
 }
 
 }  // namespace
 
 ParsedMesh parse_off(std::string_view bytes, const std::string& source) {
-  require_text(bytes, source);
-  TextCursor cursor(bytes, source, TextCursor::Separator::HashComments);
+  TextCursor cursor(text_content(bytes, source), source, TextCursor::Separator::HashComments);
   const std::string_view header = cursor.next_word();
   if (!is_off_header(header)) {
     cursor.fail(ErrorKind::BadFormat, "expected an OFF header, found " + excerpt(header));
@@ -61,7 +69,7 @@ ParsedMesh parse_off(std::string_view bytes, const std::string& source) {
   const auto face_count = cursor.next_number<long long>();
   cursor.next_line();  // the edge count, unused
   ParsedMesh parsed;
-  read_vertices(cursor, vertex_count, parsed.mesh);
+  read_vertices(cursor, vertex_count, parsed);
   read_faces(cursor, face_count, parsed);
   return parsed;
 }

@@ -143,33 +143,75 @@ PlyHeader parse_header(TextCursor& cursor) {
   return header;
 }
 
+// Gives the vertex properties x, y and z their roles: each must be there once,
+// as a scalar, since a repeated one would read into the same coordinate and
+// leave another at 0.
+void assign_coordinate_roles(const PlyElement& element, std::vector<PlyRole>& roles,
+                             const std::string& source) {
+  constexpr std::pair<const char*, PlyRole> kAxes[] = {
+      {"x", PlyRole::X}, {"y", PlyRole::Y}, {"z", PlyRole::Z}};
+  for (const auto& [name, role] : kAxes) {
+    bool found = false;
+    for (size_t p = 0; p < roles.size(); ++p) {
+      const PlyProperty& property = element.properties[p];
+      if (property.name != name) continue;
+      if (property.is_list) {
+        fail(ErrorKind::BadFormat, source,
+             std::string("PLY vertex property '") + name + "' is a list; it must be a scalar");
+      }
+      if (found) {
+        fail(ErrorKind::BadFormat, source,
+             std::string("PLY vertex element has two '") + name + "' properties");
+      }
+      roles[p] = role;
+      found = true;
+    }
+    if (!found) {
+      fail(ErrorKind::BadFormat, source,
+           std::string("PLY vertex element has no '") + name + "' property");
+    }
+  }
+}
+
+// Gives the face element's list of vertex indices its role: exactly one.
+void assign_face_role(const PlyElement& element, std::vector<PlyRole>& roles,
+                      const std::string& source) {
+  const PlyProperty* found = nullptr;
+  for (size_t p = 0; p < roles.size(); ++p) {
+    const PlyProperty& property = element.properties[p];
+    if (property.name != "vertex_indices" && property.name != "vertex_index") continue;
+    if (!property.is_list) {
+      fail(ErrorKind::BadFormat, source,
+           "PLY face property '" + property.name + "' must be a list");
+    }
+    if (!is_integer(property.type)) {
+      fail(ErrorKind::BadFormat, source, "PLY face indices must have an integer type");
+    }
+    if (found) {
+      fail(ErrorKind::BadFormat, source,
+           "PLY face element has two vertex index lists ('" + found->name + "' and '" +
+               property.name + "')");
+    }
+    roles[p] = PlyRole::FaceIndices;
+    found = &property;
+  }
+  if (!found) fail(ErrorKind::BadFormat, source, "PLY face element has no vertex_indices list");
+}
+
 // The role of each property of `element`; checks that the vertex and face
 // elements have what we need.
 std::vector<PlyRole> property_roles(const PlyElement& element, const std::string& source) {
   std::vector<PlyRole> roles(element.properties.size(), PlyRole::Skip);
-  int found = 0;
-  for (size_t p = 0; p < roles.size(); ++p) {
-    const PlyProperty& property = element.properties[p];
-    if (element.name == "vertex" && !property.is_list) {
-      if (property.name == "x") roles[p] = PlyRole::X;
-      if (property.name == "y") roles[p] = PlyRole::Y;
-      if (property.name == "z") roles[p] = PlyRole::Z;
-    } else if (element.name == "face" && property.is_list &&
-               (property.name == "vertex_indices" || property.name == "vertex_index")) {
-      if (!is_integer(property.type)) {
-        fail(ErrorKind::BadFormat, source, "PLY face indices must have an integer type");
-      }
-      roles[p] = PlyRole::FaceIndices;
-    }
-    if (roles[p] != PlyRole::Skip) ++found;
-  }
-  if (element.name == "vertex" && found != 3) {
-    fail(ErrorKind::BadFormat, source, "PLY vertex element needs scalar x, y and z properties");
-  }
-  if (element.name == "face" && found != 1) {
-    fail(ErrorKind::BadFormat, source, "PLY face element needs one vertex_indices list");
-  }
+  if (element.name == "vertex") assign_coordinate_roles(element, roles, source);
+  if (element.name == "face") assign_face_role(element, roles, source);
   return roles;
+}
+
+// "the 3 faces", "the 1 item of element 'edge'": what `element` declares.
+std::string declared_items(const PlyElement& element) {
+  if (element.name == "vertex") return "the " + count_of(element.count, "vertex", "vertices");
+  if (element.name == "face") return "the " + count_of(element.count, "face", "faces");
+  return "the " + count_of(element.count, "item", "items") + " of element '" + element.name + "'";
 }
 
 // The body of an ASCII PLY file: whitespace-separated numbers.
@@ -190,6 +232,13 @@ class AsciiPlyInput {
                           ("items in PLY element '" + element.name + "'").c_str());
   }
   int line() const { return cursor_.line(); }
+  // Throws BadFormat unless only blank space follows `last`, the last element.
+  void require_end(const PlyElement& last) {
+    cursor_.skip_separators();
+    if (!cursor_.at_end()) {
+      fail(ErrorKind::BadFormat, "data beyond " + declared_items(last) + " the header declares");
+    }
+  }
   [[noreturn]] void fail(ErrorKind kind, const std::string& problem) const {
     cursor_.fail(kind, problem);
   }
@@ -224,6 +273,16 @@ class BinaryPlyInput {
     }
   }
   int line() const { return 0; }
+  // Throws BadFormat when bytes follow `last`, the last element. Binary data
+  // has no blank space to allow for, and bytes left over mean that a count
+  // lies, as data beyond an ASCII body does.
+  void require_end(const PlyElement& last) const {
+    if (bytes_.remaining() > 0) {
+      fail(ErrorKind::BadFormat,
+           count_of(static_cast<long long>(bytes_.remaining()), "byte", "bytes") + " beyond " +
+               declared_items(last) + " the header declares");
+    }
+  }
   [[noreturn]] void fail(ErrorKind kind, const std::string& problem) const {
     bytes_.fail(kind, problem);
   }
@@ -271,7 +330,7 @@ void read_polygon(Input& input, const PlyProperty& property, std::vector<int>& c
   for (long long c = 0; c < corner_count; ++c) {
     const long long index = input.integer(property.type);
     if (index < 0 || index > INT_MAX) {
-      input.fail(ErrorKind::BadFace, "face index " + std::to_string(index) + " out of range");
+      input.fail(ErrorKind::BadFace, "face vertex " + std::to_string(index) + " out of range");
     }
     corners.push_back(static_cast<int>(index));
   }
@@ -308,16 +367,25 @@ void read_element(Input& input, const PlyElement& element, const std::vector<Ply
           break;
       }
     }
-    if (is_vertex) parsed.mesh.positions.push_back(position);
+    if (is_vertex) {
+      parsed.mesh.positions.push_back(position);
+      if (Input::kHasLines) parsed.vertex_lines.push_back(input.line());
+    }
   }
 }
 
+// Reads every element, then refuses data after the last one that has any:
+// a count lower than the items that follow would silently drop them (faces
+// lost open a false hole).
 template <class Input>
 ParsedMesh read_body(Input input, const PlyHeader& header, const std::string& source) {
   ParsedMesh parsed;
+  const PlyElement* last = nullptr;
   for (const PlyElement& element : header.elements) {
     read_element(input, element, property_roles(element, source), parsed);
+    if (!element.properties.empty()) last = &element;
   }
+  if (last) input.require_end(*last);
   return parsed;
 }
 
@@ -334,6 +402,8 @@ void append_header(std::string& out, const Mesh& mesh, bool binary) {
 }  // namespace
 
 ParsedMesh parse_ply(std::string_view bytes, const std::string& source) {
+  bytes = skip_byte_order_mark(bytes, source);
+  require_line_feeds(bytes.substr(0, bytes.find("end_header")), source);  // the header's text
   TextCursor cursor(bytes, source, TextCursor::Separator::Blanks);
   const PlyHeader header = parse_header(cursor);
   if (header.encoding == PlyEncoding::Ascii) {

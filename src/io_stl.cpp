@@ -1,8 +1,8 @@
 // STL, ASCII or binary (80-byte header, uint32 facet count, 50 bytes per
 // facet). STL is a float32 format by nature: positions are read as float32 and
 // written as float32, so only float32-representable positions round-trip.
-// Facets carry their own corners; corners with bit-identical positions are
-// welded into one vertex, vertices numbered by first occurrence.
+// Facets carry their own corners; corners with equal positions are welded into
+// one vertex, vertices numbered by first occurrence.
 #include <cmath>
 
 #include "io_detail.h"
@@ -22,18 +22,31 @@ uint64_t mix_bits(uint64_t bits) {
   return bits;
 }
 
+// Equal points hash alike: -0 is hashed as +0, the one pair of distinct float
+// bit patterns that compare equal.
 uint64_t hash_point(const StlPoint& point) {
   uint32_t bits[3];
-  std::memcpy(bits, point.data(), sizeof(bits));
+  for (int k = 0; k < 3; ++k) {
+    const float value = point[k] == 0 ? 0.0f : point[k];
+    std::memcpy(&bits[k], &value, sizeof(float));
+  }
   return mix_bits((uint64_t{bits[0]} << 32 | bits[1]) ^ mix_bits(bits[2]));
 }
 
-bool same_bits(const StlPoint& a, const StlPoint& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(StlPoint)) == 0;
+// Corners are the same vertex when they compare equal, so that +0 and -0 weld
+// (exporters write both, and a sheet would crack along a zero coordinate), or
+// when their bits are identical, so that a repeated NaN corner stays one vertex;
+// validation then refuses the NaN.
+bool same_point(const StlPoint& a, const StlPoint& b) {
+  return (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) ||
+         std::memcmp(a.data(), b.data(), sizeof(StlPoint)) == 0;
 }
 
-// Welds `corners` (three per facet) by an open-addressing table over their bits.
-ParsedMesh weld(const std::vector<StlPoint>& corners, std::vector<int> face_lines) {
+// Welds `corners` (three per facet) by an open-addressing table; each vertex
+// keeps the bits of its first corner. `corner_lines` (ASCII) gives the lines
+// of the vertices.
+ParsedMesh weld(const std::vector<StlPoint>& corners, std::vector<int> face_lines,
+                const std::vector<int>& corner_lines = {}) {
   ParsedMesh parsed;
   parsed.face_lines = std::move(face_lines);
   size_t capacity = 16;
@@ -43,7 +56,7 @@ ParsedMesh weld(const std::vector<StlPoint>& corners, std::vector<int> face_line
   std::vector<int> corner_vertex(corners.size());
   for (size_t c = 0; c < corners.size(); ++c) {
     size_t slot = hash_point(corners[c]) & (capacity - 1);
-    while (slots[slot] >= 0 && !same_bits(corners[first_corner[slots[slot]]], corners[c])) {
+    while (slots[slot] >= 0 && !same_point(corners[first_corner[slots[slot]]], corners[c])) {
       slot = (slot + 1) & (capacity - 1);
     }
     if (slots[slot] < 0) {
@@ -51,6 +64,7 @@ ParsedMesh weld(const std::vector<StlPoint>& corners, std::vector<int> face_line
       first_corner.push_back(c);
       const StlPoint& p = corners[c];
       parsed.mesh.positions.push_back({p[0], p[1], p[2]});
+      if (!corner_lines.empty()) parsed.vertex_lines.push_back(corner_lines[c]);
     }
     corner_vertex[c] = slots[slot];
   }
@@ -87,7 +101,8 @@ ParsedMesh parse_binary(std::string_view bytes, uint64_t facet_count, const std:
 }
 
 // `facet normal nx ny nz outer loop vertex x y z (x3) endloop endfacet`, after `facet`.
-void read_ascii_facet(TextCursor& cursor, std::vector<StlPoint>& corners) {
+void read_ascii_facet(TextCursor& cursor, std::vector<StlPoint>& corners,
+                      std::vector<int>& corner_lines) {
   cursor.expect_word("normal");
   for (int i = 0; i < 3; ++i) cursor.next_number<float>();
   cursor.expect_word("outer");
@@ -97,16 +112,18 @@ void read_ascii_facet(TextCursor& cursor, std::vector<StlPoint>& corners) {
     StlPoint corner;
     for (float& coordinate : corner) coordinate = cursor.next_number<float>();
     corners.push_back(corner);
+    corner_lines.push_back(cursor.line());
   }
   cursor.expect_word("endloop");
   cursor.expect_word("endfacet");
 }
 
-// One or more `solid NAME ... endsolid NAME` blocks.
-ParsedMesh parse_ascii(std::string_view bytes, const std::string& source) {
-  require_text(bytes, source);
-  TextCursor cursor(bytes, source, TextCursor::Separator::Lines);
+// One or more `solid NAME ... endsolid NAME` blocks in `text` (without a byte
+// order mark or NUL bytes).
+ParsedMesh parse_ascii(std::string_view text, const std::string& source) {
+  TextCursor cursor(text, source, TextCursor::Separator::Lines);
   std::vector<StlPoint> corners;
+  std::vector<int> corner_lines;
   std::vector<int> face_lines;
   std::string_view word = cursor.next_word();
   do {
@@ -115,7 +132,7 @@ ParsedMesh parse_ascii(std::string_view bytes, const std::string& source) {
     cursor.next_line();  // the solid's name
     while ((word = cursor.next_word()) == "facet") {
       face_lines.push_back(cursor.line());
-      read_ascii_facet(cursor, corners);
+      read_ascii_facet(cursor, corners, corner_lines);
     }
     if (word != "endsolid") {
       cursor.fail(ErrorKind::BadFormat, "expected 'facet' or 'endsolid', found " +
@@ -124,12 +141,51 @@ ParsedMesh parse_ascii(std::string_view bytes, const std::string& source) {
     cursor.next_line();
     word = cursor.next_word();
   } while (!word.empty());
-  return weld(corners, std::move(face_lines));
+  return weld(corners, std::move(face_lines), corner_lines);
 }
 
 bool starts_with_solid(std::string_view bytes) {
   const size_t start = bytes.find_first_not_of(" \t\r\n");
   return start != std::string_view::npos && bytes.substr(start, 5) == "solid";
+}
+
+// "solid" as UTF-16 text after its byte order mark, in either byte order.
+bool starts_with_utf16_solid(std::string_view bytes) {
+  return starts_with(bytes, {"\xFF\xFEs\0o\0l\0i\0d\0", 12}) ||
+         starts_with(bytes, {"\xFE\xFF\0s\0o\0l\0i\0d", 12});
+}
+
+// Why `bytes`, not of the size their facet count implies, are no binary STL.
+std::string binary_size_problem(std::string_view bytes) {
+  if (bytes.size() < kHeaderBytes + 4) {
+    return "too short: it has " + std::to_string(bytes.size()) + " bytes, fewer than the " +
+           std::to_string(kHeaderBytes + 4) + " of its header and facet count";
+  }
+  uint64_t facet_count = 0;
+  is_binary_stl(bytes, facet_count);
+  return "truncated or padded: it claims " + std::to_string(facet_count) + " facets (" +
+         std::to_string(kHeaderBytes + 4 + kFacetBytes * facet_count) + " bytes) but has " +
+         std::to_string(bytes.size()) + " bytes";
+}
+
+// A file that starts with `solid` is ASCII STL, unless it is not text: some
+// binary STL headers start with `solid` too, and a truncated one would
+// otherwise be reported as binary data in a text file. Text that fails as
+// ASCII STL but is long enough for binary STL gets both readings' problems.
+ParsedMesh parse_solid(std::string_view bytes, std::string_view text, const std::string& source) {
+  if (text.find('\0') != std::string_view::npos) {
+    fail(ErrorKind::BadFormat, source, "binary STL is " + binary_size_problem(bytes));
+  }
+  require_line_feeds(text, source);
+  try {
+    return parse_ascii(text, source);
+  } catch (const Error& error) {
+    if (bytes.size() < kHeaderBytes + 4) throw;
+    const std::string problem = std::string(error.what()).substr(source.size() + 2);
+    fail(
+        ErrorKind::BadFormat, source,
+        "not valid ASCII STL (" + problem + "); as binary STL it is " + binary_size_problem(bytes));
+  }
 }
 
 // The unit normal of `face` in float32, or zero for a degenerate face.
@@ -186,17 +242,19 @@ void serialize_ascii(const Mesh& mesh, ByteSink& sink) {
 
 }  // namespace
 
+// Binary or ASCII is decided first, by the size: a binary header is 80
+// arbitrary bytes, which may start with a byte order mark or `solid`.
 ParsedMesh parse_stl(std::string_view bytes, const std::string& source) {
   uint64_t facet_count = 0;
   if (is_binary_stl(bytes, facet_count)) return parse_binary(bytes, facet_count, source);
-  if (starts_with_solid(bytes)) return parse_ascii(bytes, source);
+  const std::string_view text =
+      starts_with(bytes, kUtf8ByteOrderMark) ? bytes.substr(kUtf8ByteOrderMark.size()) : bytes;
+  if (starts_with_solid(text)) return parse_solid(bytes, text, source);
+  if (starts_with_utf16_solid(bytes)) skip_byte_order_mark(bytes, source);  // refuses it
   if (bytes.size() < kHeaderBytes + 4) {
     fail(ErrorKind::BadFormat, source, "not an STL file (no 'solid' and too short for binary)");
   }
-  fail(ErrorKind::BadFormat, source,
-       "binary STL is truncated or padded: it claims " + std::to_string(facet_count) + " facets (" +
-           std::to_string(kHeaderBytes + 4 + kFacetBytes * facet_count) + " bytes) but has " +
-           std::to_string(bytes.size()) + " bytes");
+  fail(ErrorKind::BadFormat, source, "binary STL is " + binary_size_problem(bytes));
 }
 
 void serialize_stl(const Mesh& mesh, bool binary, ByteSink& sink) {

@@ -46,6 +46,8 @@ Mesh float_mesh() {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 
+constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+
 void expect_same_mesh(const Mesh& expected, const Mesh& actual) {
   ASSERT_EQ(expected.positions.size(), actual.positions.size());
   for (size_t v = 0; v < expected.positions.size(); ++v) {
@@ -183,6 +185,14 @@ TEST(Obj, FaceAttributesStayEmptyWhenNoFaceHasThem) {
   EXPECT_TRUE(mesh.face_normals.empty());
 }
 
+TEST(Obj, SkipsAUtf8ByteOrderMark) {
+  const Mesh mesh =
+      parse_mesh(std::string(kUtf8Bom) + "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n",
+                 MeshFormat::Obj, "bom.obj");
+  EXPECT_EQ((std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}), mesh.positions);
+  EXPECT_EQ((std::vector<Tri>{{0, 1, 2}, {1, 3, 2}}), mesh.faces);
+}
+
 // ----------------------------------------------------------------------- PLY
 
 // Builds binary PLY bodies in either byte order.
@@ -280,6 +290,62 @@ TEST(Ply, AsciiWithOtherTypesAndExtras) {
   EXPECT_EQ((std::vector<Tri>{{2, 1, 0}}), mesh.faces);
 }
 
+// An ASCII PLY of 3 vertices with `vertex_properties` and one face, then `body`.
+std::string ascii_ply(const std::string& vertex_properties, const std::string& body) {
+  return "ply\nformat ascii 1.0\nelement vertex 3\n" + vertex_properties +
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + body;
+}
+
+constexpr char kXyz[] = "property float x\nproperty float y\nproperty float z\n";
+constexpr char kTriangleBody[] = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+
+TEST(Ply, SkipsAUtf8ByteOrderMark) {
+  const Mesh ascii =
+      parse_mesh(kUtf8Bom + ascii_ply(kXyz, kTriangleBody), MeshFormat::Ply, "bom_ascii.ply");
+  EXPECT_EQ((std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), ascii.positions);
+  EXPECT_EQ((std::vector<Tri>{{0, 1, 2}}), ascii.faces);
+  const std::string binary = kUtf8Bom + serialize_mesh(double_mesh(), MeshFormat::Ply);
+  expect_same_mesh(double_mesh(), parse_mesh(binary, MeshFormat::Ply, "bom_binary.ply"));
+}
+
+TEST(Ply, VertexNeedsExactlyOneScalarXYZ) {
+  const std::string twice =
+      read_error("x_twice.ply",
+                 ascii_ply("property float x\nproperty float y\nproperty float x\n", kTriangleBody),
+                 ErrorKind::BadFormat);
+  EXPECT_NE(twice.find("two 'x' properties"), std::string::npos) << twice;
+  const std::string missing = read_error(
+      "no_z.ply", ascii_ply("property float x\nproperty float y\n", "0 0\n1 0\n0 1\n3 0 1 2\n"),
+      ErrorKind::BadFormat);
+  EXPECT_NE(missing.find("no 'z' property"), std::string::npos) << missing;
+  const std::string list =
+      read_error("list_y.ply",
+                 ascii_ply("property float x\nproperty list uchar float y\nproperty float z\n",
+                           "0 1 0 0\n1 1 0 0\n0 1 1 0\n3 0 1 2\n"),
+                 ErrorKind::BadFormat);
+  EXPECT_NE(list.find("'y'"), std::string::npos) << list;
+}
+
+TEST(Ply, RefusesAsciiDataBeyondTheDeclaredCounts) {
+  const std::string message =
+      read_error("extra_face.ply", ascii_ply(kXyz, std::string(kTriangleBody) + "3 0 2 1\n"),
+                 ErrorKind::BadFormat);
+  EXPECT_NE(message.find("line 14: data beyond the 1 face the header declares"), std::string::npos)
+      << message;
+  // Blank space after the last item is fine.
+  const Mesh mesh = parse_mesh(ascii_ply(kXyz, std::string(kTriangleBody) + " \r\n\n\t"),
+                               MeshFormat::Ply, "t.ply");
+  EXPECT_EQ(1, mesh.face_count());
+}
+
+TEST(Ply, RefusesBinaryBytesBeyondTheLastElement) {
+  const std::string ply = serialize_mesh(double_mesh(), MeshFormat::Ply);
+  const std::string message = read_error("extra_bytes.ply", ply + "\n", ErrorKind::BadFormat);
+  EXPECT_NE(message.find("1 byte beyond the 3 faces the header declares"), std::string::npos)
+      << message;
+  read_error("extra_face.ply", ply + ply.substr(ply.size() - 13), ErrorKind::BadFormat);
+}
+
 // ----------------------------------------------------------------------- OFF
 
 TEST(Off, CountsOnHeaderLineCommentsColoursAndPolygons) {
@@ -305,6 +371,25 @@ TEST(Off, ColouredVariantHeader) {
                  MeshFormat::Off, "c.off");
   EXPECT_EQ(3, mesh.vertex_count());
   EXPECT_EQ((Vec3{1, 0, 0}), mesh.positions[1]);
+}
+
+TEST(Off, SkipsAUtf8ByteOrderMark) {
+  const Mesh mesh = parse_mesh(std::string(kUtf8Bom) + "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                               MeshFormat::Off, "bom.off");
+  EXPECT_EQ(3, mesh.vertex_count());
+  EXPECT_EQ((std::vector<Tri>{{0, 1, 2}}), mesh.faces);
+}
+
+TEST(Off, RefusesFacesBeyondTheDeclaredCount) {
+  const std::string message =
+      read_error("extra_face.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n",
+                 ErrorKind::BadFormat);
+  EXPECT_NE(message.find("line 7: data beyond the 1 face the header declares"), std::string::npos)
+      << message;
+  // Comments and blank space after the last face are fine.
+  const Mesh mesh = parse_mesh("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 # last\n\n# end\n  \n",
+                               MeshFormat::Off, "comments.off");
+  EXPECT_EQ(1, mesh.face_count());
 }
 
 // ----------------------------------------------------------------------- STL
@@ -351,6 +436,116 @@ TEST(Stl, AsciiWeldsCorners) {
   const Mesh mesh = parse_mesh(stl, MeshFormat::Stl, "square.stl");
   EXPECT_EQ(4, mesh.vertex_count());
   EXPECT_EQ((std::vector<Tri>{{0, 1, 2}, {0, 2, 3}}), mesh.faces);
+}
+
+// The ASCII STL of `facets`, each corner written with `number` (as text).
+std::string ascii_stl(const std::vector<std::array<std::string, 9>>& facets) {
+  std::string out = "solid grid\n";
+  for (const auto& corners : facets) {
+    out += " facet normal 0 0 1\n  outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      out += "   vertex " + corners[3 * k] + " " + corners[3 * k + 1] + " " + corners[3 * k + 2] +
+             "\n";
+    }
+    out += "  endloop\n endfacet\n";
+  }
+  return out + "endsolid grid\n";
+}
+
+// The 8 facets of a 3 x 3 grid over x, y in {-1, 0, 1} at z = 0, where every
+// zero coordinate is -0 in odd facets and +0 in even ones.
+std::vector<std::array<float, 9>> signed_zero_grid() {
+  std::vector<std::array<float, 9>> facets;
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      const float x0 = i - 1.0f, x1 = i + 0.0f, y0 = j - 1.0f, y1 = j + 0.0f;
+      facets.push_back({x0, y0, 0, x1, y0, 0, x1, y1, 0});
+      facets.push_back({x0, y0, 0, x1, y1, 0, x0, y1, 0});
+    }
+  }
+  for (size_t f = 0; f < facets.size(); ++f) {
+    for (float& coordinate : facets[f]) {
+      if (coordinate == 0) coordinate = f % 2 ? -0.0f : 0.0f;
+    }
+  }
+  return facets;
+}
+
+TEST(Stl, WeldsPlusAndMinusZeroByValue) {
+  const auto facets = signed_zero_grid();
+  std::vector<std::array<std::string, 9>> text_facets;
+  for (const auto& corners : facets) {
+    text_facets.emplace_back();
+    for (int k = 0; k < 9; ++k) {
+      text_facets.back()[k] = std::signbit(corners[k]) && corners[k] == 0
+                                  ? "-0.0"
+                                  : std::to_string(static_cast<int>(corners[k]));
+    }
+  }
+  for (const std::string& stl : {binary_stl("grid", facets), ascii_stl(text_facets)}) {
+    const Mesh mesh = parse_mesh(stl, MeshFormat::Stl, "grid.stl");
+    EXPECT_EQ(9, mesh.vertex_count());
+    EXPECT_EQ(8, mesh.face_count());
+    // Each vertex keeps the bits of its first corner: (0, 0) that of facet 0
+    // (+0), (-1, 0) that of facet 1 (-0).
+    for (const Vec3& p : mesh.positions) {
+      if (p[0] == 0 && p[1] == 0) {
+        EXPECT_FALSE(std::signbit(p[0]) || std::signbit(p[1]));
+      }
+      if (p[0] == -1 && p[1] == 0) {
+        EXPECT_TRUE(std::signbit(p[1]) && std::signbit(p[2]));
+      }
+    }
+  }
+}
+
+TEST(Stl, NonFiniteCornersEndAsNonFiniteCoordinate) {
+  // NaNs never compare equal: every one of them, whatever its payload or sign,
+  // must still end in a clean error.
+  auto facets = signed_zero_grid();
+  const uint32_t specials[] = {0x7fc00000u, 0xffc00000u, 0x7f800001u, 0xffffffffu,
+                               0x7f800000u, 0xff800000u, 0x00000001u, 0x80000001u};
+  for (size_t f = 0; f < facets.size(); ++f) {
+    for (size_t k = 0; k < 9; ++k) {
+      std::memcpy(&facets[f][k], &specials[(f + k) % 8], sizeof(float));
+    }
+  }
+  read_error("specials.stl", binary_stl("specials", facets), ErrorKind::NonFiniteCoordinate);
+  read_error("nan.stl",
+             ascii_stl({{"nan", "0", "0", "-nan", "0", "0", "nan", "nan", "0"},
+                        {"0", "0", "0", "1", "0", "0", "inf", "1", "0"}}),
+             ErrorKind::NonFiniteCoordinate);
+}
+
+TEST(Stl, SkipsAUtf8ByteOrderMark) {
+  const Mesh ascii =
+      parse_mesh(kUtf8Bom + ascii_stl({{"0", "0", "0", "1", "0", "0", "1", "1", "0"},
+                                       {"0", "0", "0", "1", "1", "0", "0", "1", "0"}}),
+                 MeshFormat::Stl, "bom.stl");
+  EXPECT_EQ(4, ascii.vertex_count());
+  EXPECT_EQ(2, ascii.face_count());
+  // A binary header is arbitrary bytes: one that starts with the mark stays binary.
+  const Mesh binary = parse_mesh(binary_stl(std::string(kUtf8Bom) + "solid", kTwoFacets),
+                                 MeshFormat::Stl, "bom_binary.stl");
+  EXPECT_EQ(4, binary.vertex_count());
+}
+
+TEST(Stl, TruncatedBinaryWhoseHeaderStartsWithSolidReportsTheTruncation) {
+  const std::string stl = binary_stl("solid but binary", kTwoFacets);
+  const std::string message =
+      read_error("solid_truncated.stl", stl.substr(0, stl.size() - 10), ErrorKind::BadFormat);
+  EXPECT_NE(message.find("binary STL is truncated or padded: it claims 2 facets (184 bytes) but "
+                         "has 174 bytes"),
+            std::string::npos)
+      << message;
+  // Text that is neither: both readings are reported.
+  const std::string typo =
+      read_error("typo.stl",
+                 "solid typo\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertx 1 0 0\n"
+                 "   vertex 1 1 0\n  endloop\n endfacet\nendsolid typo\n",
+                 ErrorKind::BadFormat);
+  EXPECT_NE(typo.find("line 5: expected 'vertex', found 'vertx'"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("as binary STL"), std::string::npos) << typo;
 }
 
 // --------------------------------------------------------------------- errors
@@ -417,7 +612,7 @@ TEST(IoErrors, TruncatedBinaryFiles) {
 TEST(IoErrors, NonFiniteCoordinates) {
   const std::string message = read_error("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
                                          ErrorKind::NonFiniteCoordinate);
-  EXPECT_NE(message.find("vertex 2"), std::string::npos) << message;
+  EXPECT_NE(message.find("vertex 1 (line 2)"), std::string::npos) << message;
   read_error("inf.off", "OFF\n3 1 0\n0 0 0\n1 -inf 0\n0 1 0\n3 0 1 2\n",
              ErrorKind::NonFiniteCoordinate);
   read_error("overflow.obj", "v 0 0 1e999\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
@@ -433,7 +628,7 @@ TEST(IoErrors, NonFiniteCoordinates) {
 TEST(IoErrors, FaceIndexOutOfRange) {
   const std::string message =
       read_error("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 57\n", ErrorKind::BadFace);
-  EXPECT_NE(message.find("line 5: face index 57 out of range (mesh has 3 vertices)"),
+  EXPECT_NE(message.find("line 5: face vertex 56 out of range (mesh has 3 vertices; OBJ index 57)"),
             std::string::npos)
       << message;
   read_error("negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", ErrorKind::BadFace);
@@ -483,6 +678,105 @@ TEST(IoErrors, HugeClaimedCounts) {
   std::string stl = binary_stl("huge", kTwoFacets);
   stl.replace(80, 4, "\xff\xff\xff\x7f");
   read_error("huge.stl", stl, ErrorKind::BadFormat);
+}
+
+// `text` (ASCII) as UTF-16 with a byte order mark.
+std::string utf16(const std::string& text, bool big_endian) {
+  std::string out = big_endian ? "\xFE\xFF" : "\xFF\xFE";
+  for (char c : text) {
+    if (big_endian) out += '\0';
+    out += c;
+    if (!big_endian) out += '\0';
+  }
+  return out;
+}
+
+TEST(IoErrors, Utf16IsRefusedByName) {
+  const std::pair<const char*, std::string> files[] = {
+      {"utf16.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+      {"utf16.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"utf16.ply", ascii_ply(kXyz, kTriangleBody)},
+      {"utf16.stl", ascii_stl({{"0", "0", "0", "1", "0", "0", "1", "1", "0"}})}};
+  for (const auto& [name, text] : files) {
+    for (bool big_endian : {false, true}) {
+      const std::string message = read_error(name, utf16(text, big_endian), ErrorKind::BadFormat);
+      EXPECT_NE(message.find("UTF-16 text is not supported; save it as UTF-8 or ASCII"),
+                std::string::npos)
+          << message;
+    }
+  }
+}
+
+TEST(IoErrors, MessagesCountVerticesFromZeroAndLinesFromOne) {
+  const auto expect_in = [](const std::string& message, const std::string& part) {
+    EXPECT_NE(message.find(part), std::string::npos) << message;
+  };
+  expect_in(read_error("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
+                       ErrorKind::NonFiniteCoordinate),
+            "vertex 1 (line 2) has a non-finite coordinate");
+  expect_in(read_error("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", ErrorKind::BadFace),
+            "line 4: face vertex 3 out of range (mesh has 3 vertices; OBJ index 4)");
+  expect_in(read_error("repeat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 -1 3\n", ErrorKind::BadFace),
+            "line 4: face repeats vertex 2 (OBJ index 3)");
+  expect_in(read_error("nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
+                       ErrorKind::NonFiniteCoordinate),
+            "vertex 1 (line 4) has a non-finite coordinate");
+  expect_in(
+      read_error("range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", ErrorKind::BadFace),
+      "line 6: face vertex 3 out of range (mesh has 3 vertices)");
+  expect_in(read_error("nan.ply", ascii_ply(kXyz, "0 0 0\n1 0 0\n0 nan 0\n3 0 1 2\n"),
+                       ErrorKind::NonFiniteCoordinate),
+            "vertex 2 (line 12) has a non-finite coordinate");
+  std::string ply = serialize_mesh(double_mesh(), MeshFormat::Ply);
+  ply[ply.size() - 4 - 13] = 9;  // last index of the second face (little endian)
+  expect_in(read_error("range.ply", ply, ErrorKind::BadFace),
+            "face 1: face vertex 9 out of range (mesh has 4 vertices)");
+  expect_in(read_error("nan.stl",
+                       ascii_stl({{"0", "0", "0", "1", "0", "0", "1", "1", "0"},
+                                  {"0", "0", "0", "1", "1", "0", "nan", "1", "0"}}),
+                       ErrorKind::NonFiniteCoordinate),
+            "vertex 3 (line 13) has a non-finite coordinate");
+  expect_in(
+      read_error("repeat.stl", binary_stl("x", {{0, 0, 0, 1, 0, 0, 1, 0, 0}}), ErrorKind::BadFace),
+      "face 0: face repeats vertex 1");
+}
+
+TEST(IoErrors, FractionalCountsAndIndicesNeedAnInteger) {
+  const auto expect_integer_needed = [](const std::string& name, const std::string& bytes,
+                                        const std::string& found) {
+    const std::string message = read_error(name, bytes, ErrorKind::BadFormat);
+    EXPECT_NE(message.find("an integer is needed, found '" + found + "'"), std::string::npos)
+        << message;
+  };
+  expect_integer_needed("count.off", "OFF\n4.5 2 0\n0 0 0\n", "4.5");
+  expect_integer_needed("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "1.5");
+  expect_integer_needed("corners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3e0 0 1 2\n", "3e0");
+  expect_integer_needed("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2.5 3\n", "2.5");
+  expect_integer_needed("texcoord.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1.0 3/1\n",
+                        "1.0");
+  expect_integer_needed(
+      "count.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3.5\n" + std::string(kXyz) + "end_header\n", "3.5");
+  expect_integer_needed("index.ply", ascii_ply(kXyz, "0 0 0\n1 0 0\n0 1 0\n3 0 1 2.0\n"), "2.0");
+}
+
+TEST(IoErrors, CrOnlyLineEndsAreRefused) {
+  const std::pair<const char*, std::string> files[] = {
+      {"mac.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+      {"mac.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"mac_ascii.ply", ascii_ply(kXyz, kTriangleBody)},
+      {"mac_binary.ply", serialize_mesh(double_mesh(), MeshFormat::Ply)},
+      {"mac.stl", ascii_stl({{"0", "0", "0", "1", "0", "0", "1", "1", "0"}})}};
+  for (auto [name, bytes] : files) {
+    // The text of the file, the header alone in a binary PLY, gets CR line ends.
+    const size_t header_end = bytes.find("end_header\n");
+    const size_t text_end = std::string(name) == "mac_binary.ply" ? header_end + 11 : bytes.size();
+    std::replace(bytes.begin(), bytes.begin() + text_end, '\n', '\r');
+    const std::string message = read_error(name, bytes, ErrorKind::BadFormat);
+    EXPECT_NE(message.find("line ends are CR only (classic Mac text); convert them to LF"),
+              std::string::npos)
+        << message;
+  }
 }
 
 // Every prefix of every valid file either parses or throws a typed Error.

@@ -15,9 +15,11 @@ enum class MeshFormat { Obj, Ply, Off, Stl };
 MeshFormat format_from_path(const std::string& path);
 
 // Parses a whole file held in memory. `source` names it in error messages.
-// Polygons are split into triangle fans; STL corners with identical positions
-// are welded. Validates the result (finite coordinates, face indices in range,
-// three distinct vertices per face) and throws a typed Error otherwise.
+// Polygons are split into triangle fans; STL corners with equal positions
+// (+0 and -0 alike) are welded. Text may start with a UTF-8 byte order mark;
+// counts in headers must match the data. Validates the result (finite
+// coordinates, face indices in range, three distinct vertices per face) and
+// throws a typed Error otherwise; messages count vertices and faces from 0.
 Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source);
 
 // Reads `path` (format from its extension). Throws Error(CannotRead) if it
