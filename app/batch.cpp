@@ -24,6 +24,8 @@
 #include "foldfill/error.h"
 #include "foldfill/file.h"
 #include "foldfill/io.h"
+#include "interrupt.h"
+#include "paths.h"
 
 namespace fs = std::filesystem;
 
@@ -46,14 +48,6 @@ bool has_mesh_extension(const fs::path& path) {
 // by `format` when one is given.
 std::string output_name(const fs::path& input, const std::string& format) {
   return format.empty() ? input.filename().string() : input.stem().string() + "." + format;
-}
-
-void check_output_path(const std::string& input, const std::string& output) {
-  format_from_path(output);  // an unknown extension fails before any work
-  std::error_code ec;
-  if (fs::exists(output, ec) && fs::equivalent(input, output, ec)) {
-    throw Error(ErrorKind::Usage, output + ": refusing to overwrite the input file");
-  }
 }
 
 // The mesh files directly in `folder`, sorted by name.
@@ -145,25 +139,38 @@ struct FileOutcome {
   std::string reason;  // one line; empty when filled or unchanged
   int exit_code = 0;   // what `fill` of this file alone would have returned
   int filled_holes = 0, chosen_holes = 0;
-  bool written = false;  // the output file was written
+  bool written = false;      // the output file was written
+  bool interrupted = false;  // a signal stopped it: nothing was written
   std::vector<std::string> warnings;
   nlohmann::json report;  // the file's report, with status, reason and exit code
 };
 
+// The message without its leading "INPUT: ", which the summary line already shows.
+std::string without_source(const std::string& message, const std::string& source) {
+  const std::string prefix = source + ": ";
+  return message.compare(0, prefix.size(), prefix) == 0 ? message.substr(prefix.size()) : message;
+}
+
 // Filled, unchanged (nothing chosen), partly filled, or failed when no chosen
 // hole could be filled; in the last two cases the mesh is still written, with
 // those holes left open, as `fill` of a single file does.
-FileOutcome outcome_of(const FileFill& fill) {
+FileOutcome outcome_of(const FileFill& fill, const std::string& source) {
   FileOutcome outcome;
   outcome.written = true;
   outcome.chosen_holes = static_cast<int>(fill.choice.fill.size());
   outcome.filled_holes = outcome.chosen_holes - fill.failed_hole_count();
   for (const HoleReport& hole : fill.report.holes) {
     if (hole.filled) continue;
-    outcome.reason +=
-        fmt::format("{}loop {}: {}", outcome.reason.empty() ? "" : "; ", hole.loop_id, hole.reason);
+    // The hole's reason, "SOURCE: loop ID: problem", as "loop ID: problem".
+    const std::string where = fmt::format("loop {}: ", hole.loop_id);
+    std::string reason = without_source(hole.reason, source);
+    if (reason.compare(0, where.size(), where) != 0) reason = where + reason;
+    outcome.reason += (outcome.reason.empty() ? "" : "; ") + reason;
   }
   outcome.warnings = fill.choice.warnings;
+  for (const HoleReport& hole : fill.report.holes) {
+    if (!hole.warning.empty()) outcome.warnings.push_back(hole.warning);
+  }
   if (outcome.chosen_holes == 0) {
     outcome.status = FileStatus::Unchanged;
   } else if (outcome.filled_holes == outcome.chosen_holes) {
@@ -186,12 +193,15 @@ FileOutcome failure(const std::string& reason, int exit_code) {
 FileOutcome fill_batch_item(const BatchItem& item, const FillArgs& args) {
   FileOutcome outcome;
   try {
-    check_output_path(item.input, item.output);
+    format_from_path(item.output);
     const Mesh mesh = read_mesh(item.input);
     FileFill fill = choose_holes(mesh, item.input, args.selection);
     fill_and_write(mesh, item.input, item.output, item.flat_dir, args, {}, fill);
-    outcome = outcome_of(fill);
+    outcome = outcome_of(fill, item.input);
     outcome.report = file_report(fill, item.input, item.output);
+  } catch (const Interrupted&) {
+    outcome.interrupted = true;
+    return outcome;
   } catch (const Error& e) {
     outcome = failure(e.what(), e.exit_code());
   } catch (const std::exception& e) {
@@ -205,25 +215,19 @@ FileOutcome fill_batch_item(const BatchItem& item, const FillArgs& args) {
   return outcome;
 }
 
-// The message without its leading "INPUT: ", which the summary line already shows.
-std::string without_source(const std::string& message, const std::string& source) {
-  const std::string prefix = source + ": ";
-  return message.compare(0, prefix.size(), prefix) == 0 ? message.substr(prefix.size()) : message;
-}
-
-// What the workers print as files finish: errors and warnings, and on a
-// terminal one progress line rewritten in place (the per-iteration progress
-// of several files at once would be unreadable).
+// What the workers print as files finish: errors, warnings (not with
+// --quiet), and on a terminal one progress line rewritten in place (the
+// per-iteration progress of several files at once would be unreadable).
 class BatchProgress {
  public:
-  BatchProgress(size_t file_count, bool show_line)
-      : file_count_(file_count), show_line_(show_line) {}
+  BatchProgress(size_t file_count, bool quiet, bool show_line)
+      : file_count_(file_count), quiet_(quiet), show_line_(show_line) {}
 
   void finished(const BatchItem& item, const FileOutcome& outcome) {
     std::lock_guard<std::mutex> lock(mutex_);
     clear_line();
     for (const std::string& warning : outcome.warnings) {
-      fmt::print(stderr, "foldfill: warning: {}: {}\n", item.input, warning);
+      if (!quiet_) fmt::print(stderr, "foldfill: warning: {}\n", with_source(warning, item.input));
     }
     if (!outcome.reason.empty()) {
       fmt::print(stderr, "foldfill: error: {}: {}\n", item.input,
@@ -244,7 +248,7 @@ class BatchProgress {
 
  private:
   size_t file_count_, done_ = 0;
-  bool show_line_, dirty_ = false;
+  bool quiet_, show_line_, dirty_ = false;
   std::mutex mutex_;
 };
 
@@ -296,28 +300,54 @@ std::string single_output_path(const std::string& input, const FillArgs& args) {
     throw Error(ErrorKind::Usage, "--format " + args.format + " contradicts -o " + output +
                                       " (--format names outputs written into a folder)");
   }
-  check_output_path(input, output);
+  format_from_path(output);  // an unknown extension fails before any work
   return output;
+}
+
+void check_single_paths(const std::string& input, const std::string& output, const FillArgs& args) {
+  PathPlan plan;
+  plan.reads(input, "the input file");
+  plan.reads(args.obstacles, "the obstacles file");
+  plan.writes_file(output, "the output");
+  plan.writes_file(args.report, "the report");
+  plan.writes_flat_folder(args.flat_dir, "the --flat-dir folder");
+  plan.check();
 }
 
 int run_batch(const FillArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<BatchItem> items = plan_batch(args);
+  PathPlan plan;
+  for (const BatchItem& item : items) plan.reads(item.input, "the input file");
+  plan.reads(args.obstacles, "the obstacles file");
+  plan.writes_folder(args.output, "the output folder");
+  for (const BatchItem& item : items) plan.writes_file(item.output, "the output of " + item.input);
+  plan.writes_file(args.report, "the report");
+  plan.writes_folder(args.flat_dir, "the --flat-dir folder");
+  for (const BatchItem& item : items) {
+    plan.writes_flat_folder(item.flat_dir, "the --flat-dir folder of " + item.input);
+  }
+  plan.check();
   std::error_code ec;
   fs::create_directories(args.output, ec);
-  if (ec)
-    throw Error(ErrorKind::CannotWrite, args.output + ": cannot create (" + ec.message() + ")");
+  if (ec) {
+    throw Error(ErrorKind::CannotWrite,
+                args.output + ": cannot create the folder (" + ec.message() + ")");
+  }
 
   std::vector<FileOutcome> outcomes(items.size());
-  BatchProgress progress(items.size(), !args.quiet && isatty(STDERR_FILENO));
+  BatchProgress progress(items.size(), args.quiet, !args.quiet && isatty(STDERR_FILENO));
   std::atomic<size_t> next{0};
+  // After a signal, the workers start no other file, and the one being filled
+  // is cancelled.
   run_workers(std::min<int>(args.jobs, static_cast<int>(items.size())), [&] {
-    for (size_t i = next++; i < items.size(); i = next++) {
+    for (size_t i = next++; i < items.size() && !interrupted(); i = next++) {
       outcomes[i] = fill_batch_item(items[i], args);
-      progress.finished(items[i], outcomes[i]);
+      if (!outcomes[i].interrupted) progress.finished(items[i], outcomes[i]);
     }
   });
   progress.clear_line();
+  stop_if_interrupted();
 
   std::map<FileStatus, int> counts;
   nlohmann::json files = nlohmann::json::array();
@@ -340,6 +370,7 @@ int run_batch(const FillArgs& args) {
                                      {"unchanged", counts[FileStatus::Unchanged]},
                                      {"failed", failed}}},
                                    {"seconds_total", seconds.count()}};
+    const Writing writing;
     write_file_atomically(args.report, report.dump(1) + "\n");
   }
   return failed > 0 ? kBatchFailedExitCode : 0;

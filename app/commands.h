@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ struct SelectionArgs {
   // Throws Error(Usage) for a malformed --holes list.
   HoleSelection selection() const;
 };
+
+// The loop ids of a --holes list such as "0,2": each a whole non-negative
+// number, nothing else; nullopt when it is not one.
+std::optional<std::vector<int>> parse_loop_ids(const std::string& list);
+
+// `message` with "SOURCE: " in front, unless it already starts with it.
+std::string with_source(const std::string& message, const std::string& source);
 
 struct FillArgs {
   std::vector<std::string> inputs;  // mesh files and folders
@@ -64,7 +72,9 @@ FileFill choose_holes(const Mesh& mesh, const std::string& source, const Selecti
 // Fills the holes chosen in `fill` as `args` say, writes the mesh to `output`
 // and, when `flat_dir` is set, each hole's flat strip and patch into it; stores
 // the report in `fill`. A hole that cannot be filled is left open and
-// reported. Throws Error(CannotWrite) when an output cannot be written.
+// reported. `progress` may be empty; the fill is cancelled when a signal comes
+// (interrupt.h). Throws Error(CannotWrite) when an output cannot be written,
+// Interrupted, with nothing written, when a signal came.
 void fill_and_write(const Mesh& mesh, const std::string& source, const std::string& output,
                     const std::string& flat_dir, const FillArgs& args,
                     const ProgressCallback& progress, FileFill& fill);
@@ -74,21 +84,29 @@ nlohmann::json file_report(const FileFill& fill, const std::string& source,
                            const std::string& output);
 
 // `fill` of one mesh: fills, writes the output and the report (with
-// `extra_report` merged in), prints progress and a summary. Returns the exit
-// code (0, or 9 when a hole could not be filled).
+// `extra_report` merged in), prints progress, warnings (not with --quiet) and
+// a summary. Returns the exit code (0, or 9 when a hole could not be filled).
 int fill_single(const Mesh& mesh, const std::string& source, const std::string& output,
                 const FillArgs& args, const nlohmann::json& extra_report = {});
 
 // Where `fill` with one input file writes: `args.output`, or a file named
 // like the input inside it when it is a folder. Throws Error(Usage) when
-// --format contradicts the output's extension or the output is the input.
+// --format contradicts the output's extension or it is not a mesh format's.
 std::string single_output_path(const std::string& input, const FillArgs& args);
+
+// Checks the paths of `fill` with one input file before any work (see
+// PathPlan::check): the input and --obstacles against the output, --report
+// and --flat-dir.
+void check_single_paths(const std::string& input, const std::string& output, const FillArgs& args);
 
 // `fill` with several inputs or a folder: each file filled and written into
 // the output folder, a summary, the batch report. Returns the exit code (0, or
 // kBatchFailedExitCode when a file failed). Throws Error(Usage) before any
-// work for an output folder that is an input folder or two inputs that would
-// be written to the same file.
+// work for an output folder that is an input folder, two inputs that would
+// be written to the same file, or any path written that is an input or
+// another path written (PathPlan::check), Error(CannotWrite) for one that
+// cannot be written; Interrupted when a signal came (the files written by
+// then stay, the report is not written).
 int run_batch(const FillArgs& args);
 
 }  // namespace foldfill::cli

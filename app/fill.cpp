@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <mutex>
@@ -15,6 +16,7 @@
 #include "foldfill/liepa.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/report.h"
+#include "interrupt.h"
 
 namespace fs = std::filesystem;
 
@@ -25,6 +27,7 @@ namespace {
 class ProgressLine {
  public:
   explicit ProgressLine(bool enabled) : enabled_(enabled) {}
+  ~ProgressLine() { finish(); }
   bool operator()(int loop_id, const SolverProgress& p) {
     if (!enabled_) return true;
     std::lock_guard<std::mutex> lock(mutex_);
@@ -68,7 +71,10 @@ FillOptions make_fill_options(const FillArgs& args) {
 }
 
 void write_flat_meshes(const FillReport& report, const std::string& dir) {
-  fs::create_directories(dir);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw Error(ErrorKind::CannotWrite, dir + ": cannot create the folder (" + ec.message() + ")");
   for (const HoleReport& hole : report.holes) {
     if (!hole.filled) continue;
     write_mesh(hole.flat_strip,
@@ -78,10 +84,15 @@ void write_flat_meshes(const FillReport& report, const std::string& dir) {
   }
 }
 
-void print_single_summary(const FileFill& fill, const std::string& output, bool quiet) {
+void print_warning(const std::string& warning, const std::string& source, bool quiet) {
+  if (!quiet) fmt::print(stderr, "foldfill: warning: {}\n", with_source(warning, source));
+}
+
+void print_single_summary(const FileFill& fill, const std::string& source,
+                          const std::string& output, bool quiet) {
   for (const HoleReport& hole : fill.report.holes) {
     if (!hole.filled) {
-      fmt::print(stderr, "foldfill: error: {}\n", hole.reason);
+      fmt::print(stderr, "foldfill: error: {}\n", with_source(hole.reason, source));
     } else if (!quiet) {
       fmt::print(
           "filled loop {} ({} boundary vertices): {} new vertices, {} faces, {} iterations, "
@@ -112,17 +123,33 @@ HoleSelection SelectionArgs::selection() const {
     s.mode = HoleSelection::Mode::Auto;
   } else if (!holes.empty()) {
     s.mode = HoleSelection::Mode::Ids;
-    std::stringstream list(holes);
-    for (std::string id; std::getline(list, id, ',');) {
-      try {
-        s.ids.push_back(std::stoi(id));
-      } catch (const std::exception&) {
-        throw Error(ErrorKind::Usage,
-                    "--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
-      }
+    const std::optional<std::vector<int>> ids = parse_loop_ids(holes);
+    if (!ids) {
+      throw Error(ErrorKind::Usage,
+                  "--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
     }
+    s.ids = *ids;
   }
   return s;
+}
+
+std::optional<std::vector<int>> parse_loop_ids(const std::string& list) {
+  std::vector<int> ids;
+  std::stringstream items(list);
+  for (std::string item; std::getline(items, item, ',');) {
+    int id = 0;
+    const char* end = item.data() + item.size();
+    const auto [stop, error] = std::from_chars(item.data(), end, id);
+    if (item.empty() || item[0] == '-' || error != std::errc() || stop != end) return std::nullopt;
+    ids.push_back(id);
+  }
+  if (ids.empty() || list.back() == ',') return std::nullopt;
+  return ids;
+}
+
+std::string with_source(const std::string& message, const std::string& source) {
+  const std::string prefix = source + ": ";
+  return message.compare(0, prefix.size(), prefix) == 0 ? message : prefix + message;
 }
 
 int FileFill::failed_hole_count() const {
@@ -155,10 +182,17 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
                     const std::string& flat_dir, const FillArgs& args,
                     const ProgressCallback& progress, FileFill& fill) {
   FillOptions options = make_fill_options(args);
-  options.progress = progress;
-  FillResult result = args.method == "liepa"
-                          ? fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source)
-                          : fill_holes(mesh, fill.loops, fill.choice.fill, options, source);
+  options.progress = [&](int id, const SolverProgress& p) {
+    return !interrupted() && (!progress || progress(id, p));
+  };
+  FillResult result;
+  if (args.method == "liepa") {
+    result = fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source);
+  } else {
+    const WatchedFill watched;
+    result = fill_holes(mesh, fill.loops, fill.choice.fill, options, source);
+  }
+  const Writing writing;  // nothing is written once a signal came
   WriteOptions write_options;
   write_options.binary = !args.ascii;
   write_mesh(result.mesh, output, write_options);
@@ -181,7 +215,7 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
                 const FillArgs& args, const nlohmann::json& extra_report) {
   FileFill fill = choose_holes(mesh, source, args.selection);
   for (const std::string& warning : fill.choice.warnings) {
-    fmt::print(stderr, "foldfill: warning: {}\n", warning);
+    print_warning(warning, source, args.quiet);
   }
   ProgressLine progress(!args.quiet && isatty(STDERR_FILENO));
   fill_and_write(
@@ -189,12 +223,13 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
       [&](int id, const SolverProgress& p) { return progress(id, p); }, fill);
   progress.finish();
   for (const HoleReport& hole : fill.report.holes) {
-    if (!hole.warning.empty()) fmt::print(stderr, "foldfill: warning: {}\n", hole.warning);
+    if (!hole.warning.empty()) print_warning(hole.warning, source, args.quiet);
   }
-  print_single_summary(fill, output, args.quiet);
+  print_single_summary(fill, source, output, args.quiet);
   if (!args.report.empty()) {
     nlohmann::json report = file_report(fill, source, output);
     if (!extra_report.is_null()) report.update(extra_report);
+    const Writing writing;
     write_file_atomically(args.report, report.dump(1) + "\n");
   }
   return fill.failed_hole_count() > 0 ? static_cast<int>(ErrorKind::FillFailed) : 0;

@@ -7,7 +7,13 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -16,6 +22,8 @@
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
 #include "foldfill/render.h"
+#include "interrupt.h"
+#include "paths.h"
 
 namespace fs = std::filesystem;
 using namespace foldfill;
@@ -23,17 +31,75 @@ using namespace foldfill::cli;
 
 namespace {
 
+enum class Number { Real, Whole };
+
+// The check of a number option: the whole value is a finite number (CLI11's
+// own ranges let NaN through) or a whole one, in [low, high], or above `low`
+// when `above_low`. CLI11 puts "--OPTION: " in front of the message.
+CLI::Validator number_check(Number kind, double low, double high, bool above_low) {
+  const bool bounded = high < std::numeric_limits<int>::max();
+  std::string description;  // what --help shows after the type
+  if (above_low) {
+    description = fmt::format("> {}", low);
+  } else if (bounded) {
+    description = fmt::format("in [{}, {}]", low, high);
+  } else if (std::isfinite(low)) {
+    description = fmt::format(">= {}", low);
+  }
+  return CLI::Validator(
+      [=](std::string& value) -> std::string {
+        const char* text = value.c_str();
+        char* end = nullptr;
+        errno = 0;
+        const bool blank = value.empty() || std::isspace(static_cast<unsigned char>(value[0]));
+        const double number = blank ? 0
+                              : kind == Number::Whole
+                                  ? static_cast<double>(std::strtoll(text, &end, 10))
+                                  : std::strtod(text, &end);
+        if (blank || end == text || *end != '\0' || (kind == Number::Whole && errno == ERANGE)) {
+          return "'" + value +
+                 (kind == Number::Whole ? "' is not a whole number" : "' is not a number");
+        }
+        if (!std::isfinite(number)) return "'" + value + "' is not a finite number";
+        if (above_low && number <= low) return fmt::format("'{}' is not above {}", value, low);
+        if (bounded && (number < low || number > high)) {
+          return fmt::format("'{}' is not in [{}, {}]", value, low, high);
+        }
+        if (number < low) return fmt::format("'{}' is not {} or more", value, low);
+        if (number > high) return fmt::format("'{}' is too large", value);
+        return "";
+      },
+      description);
+}
+
+CLI::Validator number_in(double low, double high = HUGE_VAL) {
+  return number_check(Number::Real, low, high, false);
+}
+CLI::Validator number_above(double low) { return number_check(Number::Real, low, HUGE_VAL, true); }
+CLI::Validator whole_number_in(double low, double high = std::numeric_limits<int>::max()) {
+  return number_check(Number::Whole, low, high, false);
+}
+
+const CLI::Validator loop_list(
+    [](std::string& value) -> std::string {
+      if (value == "all" || value == "auto" || parse_loop_ids(value)) return "";
+      return "'" + value + "' is not 'all', 'auto' or a list of loop ids such as 0,2";
+    },
+    "all|auto|IDS");
+
 void add_selection_options(CLI::App* command, SelectionArgs& args) {
-  command->add_option(
-      "--holes", args.holes,
-      "loops to fill: 'all', 'auto' (those that turn like a hole) or ids such as 0,2");
+  command
+      ->add_option("--holes", args.holes,
+                   "loops to fill: 'all', 'auto' (those that turn like a hole) or ids such as 0,2")
+      ->check(loop_list);
   command->add_option("--near", args.near, "fill the loop closest to the point x,y,z")
       ->expected(3)
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(number_in(-HUGE_VAL));
   command
       ->add_option("--keep-open", args.keep_open,
                    "default choice: leave the N longest loops open (2 for a sleeve)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_in(0));
 }
 
 std::string format_vec(const Vec3& v) {
@@ -86,6 +152,7 @@ int run_fill(const FillArgs& args) {
   if (args.inputs.size() > 1 || fs::is_directory(args.inputs.front(), ec)) return run_batch(args);
   const std::string& input = args.inputs.front();
   const std::string output = single_output_path(input, args);
+  check_single_paths(input, output, args);
   const Mesh mesh = read_mesh(input);
   return fill_single(mesh, input, output, args);
 }
@@ -116,10 +183,15 @@ void write_picture(const std::vector<Mesh>& meshes, const RenderArgs& args) {
     options.highlight_from = m == 0 ? -1 : first_new;
     panels.push_back(render(meshes[m], camera, options));
   }
+  const Writing writing;
   write_png(side_by_side(panels), args.output);
 }
 
 int run_render(const RenderArgs& args) {
+  PathPlan plan;
+  for (const std::string& path : args.meshes) plan.reads(path, "the input mesh");
+  plan.writes_file(args.output, "the picture");
+  plan.check();
   std::vector<Mesh> meshes;
   for (const std::string& path : args.meshes) meshes.push_back(read_mesh(path));
   write_picture(meshes, args);
@@ -129,13 +201,32 @@ int run_render(const RenderArgs& args) {
 // The built-in example: a sheet with three sinusoidal folds, exactly
 // developable, with a disk cut across the folds.
 int run_demo(const std::string& out_dir, FillArgs args) {
-  fs::create_directories(out_dir);
-  const DevelopableMesh sheet = make_folded_sheet();
-  const CutMesh cut = cut_disk_hole(sheet, {2.6, 1.5}, 0.7);
   const std::string input = (fs::path(out_dir) / "input.obj").string();
-  write_mesh(cut.cut.mesh, input);
   const std::string output = (fs::path(out_dir) / "filled.obj").string();
   args.report = (fs::path(out_dir) / "report.json").string();
+  RenderArgs picture;
+  picture.output = (fs::path(out_dir) / "picture.png").string();
+  PathPlan plan;
+  plan.reads(args.obstacles, "the obstacles file");
+  plan.writes_folder(out_dir, "the demo folder");
+  plan.writes_file(input, "the demo's input");
+  plan.writes_file(output, "the filled mesh");
+  plan.writes_file(args.report, "the report");
+  plan.writes_file(picture.output, "the picture");
+  plan.writes_flat_folder(args.flat_dir, "the --flat-dir folder");
+  plan.check();
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) {
+    throw Error(ErrorKind::CannotWrite,
+                out_dir + ": cannot create the folder (" + ec.message() + ")");
+  }
+  const DevelopableMesh sheet = make_folded_sheet();
+  const CutMesh cut = cut_disk_hole(sheet, {2.6, 1.5}, 0.7);
+  {
+    const Writing writing;
+    write_mesh(cut.cut.mesh, input);
+  }
   if (!args.quiet) {
     fmt::print("demo: folded sheet, {} vertices, hole of flat area {:.4f} cut across its folds\n",
                cut.cut.mesh.vertex_count(), cut.removed_area);
@@ -143,8 +234,6 @@ int run_demo(const std::string& out_dir, FillArgs args) {
   }
   const nlohmann::json truth = {{"truth", {{"removed_flat_area", cut.removed_area}}}};
   const int code = fill_single(cut.cut.mesh, input, output, args, truth);
-  RenderArgs picture;
-  picture.output = (fs::path(out_dir) / "picture.png").string();
   write_picture({cut.cut.mesh, read_mesh(output)}, picture);
   if (!args.quiet)
     fmt::print("wrote {}\nwrote {} (input | filled, new faces in orange)\n", args.report,
@@ -159,37 +248,43 @@ void add_fill_options(CLI::App* command, FillArgs& args) {
                    "'foldfill', or 'liepa': CGAL's smooth fill, for comparison")
       ->check(CLI::IsMember({"foldfill", "liepa"}));
   command->add_option("--lambda", args.lambda, "bending stiffness (normalised)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0));
   command->add_option("--shrink,-c", args.shrink, "ARAP shrink factor c in (0, 1]")
-      ->check(CLI::Range(0.01, 1.0));
+      ->check(number_in(0.01, 1.0));
   command->add_option("--density", args.density, "interior vertex density relative to the boundary")
-      ->check(CLI::Range(0.1, 10.0));
+      ->check(number_in(0.1, 10.0));
   command->add_option("--repulsion", args.repulsion, "self-repulsion weight (normalised)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0));
   command->add_option("--bending", args.bending, "bending model")
       ->check(CLI::IsMember({"quadratic", "two-ring"}));
   command->add_option("--solver", args.solver, "energy minimiser")
       ->check(CLI::IsMember({"fast", "gd"}));
   command->add_option("--preset", args.preset, "'prototype': the paper's weights in mesh units")
       ->check(CLI::IsMember({"prototype"}));
-  command->add_option("--alpha", args.prototype.alpha,
-                      "prototype edge weight (with --preset prototype)");
-  command->add_option("--beta", args.prototype.beta,
-                      "prototype bending weight (with --preset prototype)");
-  command->add_option("--mu", args.prototype.mu,
-                      "prototype repulsion weight (with --preset prototype)");
+  command
+      ->add_option("--alpha", args.prototype.alpha,
+                   "prototype edge weight (with --preset prototype)")
+      ->check(number_above(0));
+  command
+      ->add_option("--beta", args.prototype.beta,
+                   "prototype bending weight (with --preset prototype)")
+      ->check(number_in(0));
+  command
+      ->add_option("--mu", args.prototype.mu,
+                   "prototype repulsion weight (with --preset prototype)")
+      ->check(number_in(0));
   command->add_option("--obstacles", args.obstacles, "obstacles file (JSON or prototype text)");
   command->add_option("--max-iterations", args.max_iterations, "iteration cap per hole")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_in(1));
   command
       ->add_option("--coarse-start", args.coarse_start,
                    "patches of this many interior vertices or more start from a coarser fill "
                    "(fast solver; 0: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_in(0));
   command
       ->add_option("--time-limit", args.time_limit,
                    "seconds per hole for the minimisation (0: none)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0));
   command->add_option("--flat-dir", args.flat_dir, "write each hole's flat strip and patch here");
   command->add_flag("--quiet,-q", args.quiet, "print errors only");
   command->add_flag("--ascii", args.ascii, "write PLY/STL as text");
@@ -208,7 +303,8 @@ int main(int argc, char** argv) {
   CLI::App* holes = app.add_subcommand("holes", "list the boundary loops of a mesh");
   holes->add_option("mesh", holes_path, "mesh file (OBJ, PLY, OFF, STL)")->required();
   holes->add_flag("--json", holes_json, "print JSON");
-  holes->add_option("--keep-open", holes_selection.keep_open, "loops counted as outer (default 1)");
+  holes->add_option("--keep-open", holes_selection.keep_open, "loops counted as outer (default 1)")
+      ->check(whole_number_in(0));
 
   FillArgs fill_args;
   CLI::App* fill = app.add_subcommand("fill", "fill holes and write the result");
@@ -221,7 +317,7 @@ int main(int argc, char** argv) {
                    "format of outputs written into a folder (default: the input's)")
       ->check(CLI::IsMember({"obj", "ply", "off", "stl"}));
   fill->add_option("-j,--jobs", fill_args.jobs, "files filled in parallel (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_in(1));
   add_fill_options(fill, fill_args);
 
   std::string demo_dir;
@@ -237,12 +333,16 @@ int main(int argc, char** argv) {
   render_command->add_option("meshes", render_args.meshes, "input mesh, then filled mesh(es)")
       ->required();
   render_command->add_option("-o,--output", render_args.output, "PNG file")->required();
-  render_command->add_option("--azimuth", render_args.azimuth, "degrees");
-  render_command->add_option("--elevation", render_args.elevation, "degrees");
+  render_command->add_option("--azimuth", render_args.azimuth, "degrees")
+      ->check(number_in(-HUGE_VAL));
+  render_command->add_option("--elevation", render_args.elevation, "degrees")
+      ->check(number_in(-HUGE_VAL));
   render_command->add_option("--width", render_args.width, "pixels per panel")
-      ->check(CLI::Range(16, 8192));
-  render_command->add_option("--height", render_args.height, "pixels")->check(CLI::Range(16, 8192));
+      ->check(whole_number_in(16, 8192));
+  render_command->add_option("--height", render_args.height, "pixels")
+      ->check(whole_number_in(16, 8192));
 
+  install_interrupt_handlers();
   try {
     app.parse(argc, argv);
     if (*holes) return run_holes(holes_path, holes_selection, holes_json);
@@ -250,8 +350,19 @@ int main(int argc, char** argv) {
     if (*demo) return run_demo(demo_dir, demo_args);
     if (*render_command) return run_render(render_args);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : static_cast<int>(ErrorKind::Usage);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line, like every error; the command's --help lists its options.
+    std::string message = e.what();
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    std::string help = "foldfill --help";
+    for (const CLI::App* command : {holes, fill, demo, render_command}) {
+      if (command->parsed()) help = "foldfill " + command->get_name() + " --help";
+    }
+    fmt::print(stderr, "foldfill: error: {} (see {})\n", message, help);
+    return static_cast<int>(ErrorKind::Usage);
+  } catch (const Interrupted& e) {
+    fmt::print(stderr, "foldfill: error: {}\n", e.what());
+    return kInterruptedExitCode;
   } catch (const Error& e) {
     fmt::print(stderr, "foldfill: error: {}\n", e.what());
     return e.exit_code();

@@ -1,14 +1,20 @@
 // The command-line program end to end: exit codes and messages for bad input,
 // nothing written on failure, the input never touched, `holes` and `demo`.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "foldfill/examples.h"
 #include "foldfill/io.h"
@@ -41,6 +47,36 @@ CliRun run_cli(const std::string& arguments, const fs::path& dir) {
   run.out = slurp(out);
   run.err = slurp(err);
   return run;
+}
+
+// Runs the CLI like run_cli and sends it `signo` after `delay`.
+CliRun run_cli_interrupted(const std::string& arguments, const fs::path& dir, int signo,
+                           std::chrono::milliseconds delay) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string command = "exec " + std::string(FOLDFILL_CLI) + " " + arguments + " >" +
+                              out.string() + " 2>" + err.string() + " </dev/null";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // A signal ignored here (a background job) would stay ignored in the CLI.
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(delay);
+  kill(pid, signo);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CliRun run;
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.out = slurp(out);
+  run.err = slurp(err);
+  return run;
+}
+
+// The lines of `text` (each ended by a newline).
+int line_count(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
 void write_text(const fs::path& path, const std::string& text) {
@@ -401,6 +437,403 @@ TEST_F(CliTest, SingleInputIntoAnExistingFolder) {
   EXPECT_NE(run.out.find("wrote " + (out / "b.obj").string()), std::string::npos) << run.out;
   EXPECT_GT(read_mesh((out / "b.obj").string()).face_count(),
             read_mesh((in / "b.obj").string()).face_count());
+}
+
+// Hostile input: paths written over inputs or over each other, signals, long
+// names, unwritable places, bad option values, warnings.
+
+// A refusal before any work: `code`, one error line naming `path`.
+void expect_refusal(const CliRun& run, int code, const std::string& path) {
+  EXPECT_EQ(run.code, code) << run.err;
+  EXPECT_EQ(run.err.rfind("foldfill: error: ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find(path), std::string::npos) << run.err;
+  EXPECT_EQ(line_count(run.err), 1) << run.err;
+}
+
+// No temporary file, of this version or the last, in `dir`.
+void expect_no_temporary_file(const fs::path& dir) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_EQ(name.find(".tmp"), std::string::npos) << entry.path();
+    EXPECT_EQ(name.find(".foldfill-"), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(CliTest, ReportEqualToTheInputIsRefused) {
+  const fs::path input = dir_ / "grid.obj", other = dir_ / "other.obj";
+  write_text(input, grid_with_hole_obj());
+  write_text(other, grid_obj(5, {{2, 1}}));
+  const CliRun single = run_cli("fill " + input.string() + " -o " + (dir_ / "out.obj").string() +
+                                    " --report " + input.string(),
+                                dir_);
+  expect_refusal(single, 2, input.string());
+  EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+  const CliRun batch = run_cli("fill " + input.string() + " " + other.string() + " -o " +
+                                   (dir_ / "out").string() + " --report " + other.string(),
+                               dir_);
+  expect_refusal(batch, 2, other.string());
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  EXPECT_EQ(slurp(input), grid_with_hole_obj());
+  EXPECT_EQ(slurp(other), grid_obj(5, {{2, 1}}));
+}
+
+TEST_F(CliTest, ReportEqualToTheOutputIsRefused) {
+  const fs::path input = dir_ / "grid.obj", out = dir_ / "out";
+  write_text(input, grid_with_hole_obj());
+  fs::create_directories(out);
+  // The same path, the same place through `..` (neither exists yet), a batch
+  // output.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {(out / "x.obj").string(), (out / "x.obj").string()},
+      {(out / ".." / "out" / "x.obj").string(), (out / "x.obj").string()},
+  };
+  for (const auto& [output, report] : cases) {
+    const CliRun run =
+        run_cli("fill " + input.string() + " -o " + output + " --report " + report, dir_);
+    expect_refusal(run, 2, report);
+    EXPECT_TRUE(fs::is_empty(out)) << output;
+  }
+  const CliRun batch =
+      run_cli("fill " + input.string() + " " + (dir_ / "grid.obj").string() + " -o " +
+                  (dir_ / "batch").string() + " --report " + (dir_ / "batch" / "grid.obj").string(),
+              dir_);
+  EXPECT_EQ(batch.code, 2) << batch.err;
+  EXPECT_FALSE(fs::exists(dir_ / "batch"));
+  const fs::path in = write_batch_folder(dir_);
+  const CliRun folder = run_cli("fill " + in.string() + " -o " + (dir_ / "batch").string() +
+                                    " --report " + (dir_ / "batch" / "a.obj").string(),
+                                dir_);
+  expect_refusal(folder, 2, (dir_ / "batch" / "a.obj").string());
+  EXPECT_FALSE(fs::exists(dir_ / "batch"));
+}
+
+TEST_F(CliTest, WrittenPathsThatLeadToAnInputAreRefused) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_hole_obj());
+  fs::create_symlink(input, dir_ / "link.json");
+  fs::create_hard_link(input, dir_ / "hard.json");
+  fs::create_directories(dir_ / "sub");
+  for (const fs::path& report :
+       {dir_ / "link.json", dir_ / "hard.json", dir_ / "sub" / ".." / "grid.obj"}) {
+    const CliRun run = run_cli("fill " + input.string() + " -o " + (dir_ / "out.obj").string() +
+                                   " --report " + report.string(),
+                               dir_);
+    expect_refusal(run, 2, report.string());
+    EXPECT_NE(run.err.find("an input is never overwritten"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+  }
+  const CliRun output = run_cli(
+      "fill " + input.string() + " -o " + (dir_ / "sub" / ".." / "grid.obj").string(), dir_);
+  EXPECT_EQ(output.code, 2) << output.err;
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.json"));
+  EXPECT_EQ(slurp(input), grid_with_hole_obj());
+  EXPECT_EQ(fs::hard_link_count(input), 2u);
+}
+
+TEST_F(CliTest, ObstaclesFileIsNeverWritten) {
+  const fs::path input = dir_ / "grid.obj", obstacles = dir_ / "obstacles.json";
+  const std::string no_obstacles = "{\"obstacles\": []}\n";
+  write_text(input, grid_with_hole_obj());
+  write_text(obstacles, no_obstacles);
+  const CliRun report =
+      run_cli("fill " + input.string() + " -o " + (dir_ / "out.obj").string() + " --report " +
+                  obstacles.string() + " --obstacles " + obstacles.string(),
+              dir_);
+  expect_refusal(report, 2, obstacles.string());
+  EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+  fs::create_directories(dir_ / "demo");
+  write_text(dir_ / "demo" / "report.json", no_obstacles);
+  const CliRun demo = run_cli("demo " + (dir_ / "demo").string() + " --obstacles " +
+                                  (dir_ / "demo" / "report.json").string(),
+                              dir_);
+  expect_refusal(demo, 2, (dir_ / "demo" / "report.json").string());
+  EXPECT_EQ(file_names(dir_ / "demo"), std::vector<std::string>{"report.json"});
+  EXPECT_EQ(slurp(obstacles), no_obstacles);
+  EXPECT_EQ(slurp(dir_ / "demo" / "report.json"), no_obstacles);
+}
+
+TEST_F(CliTest, FlatDirOverAnInputOrAnOutputIsRefused) {
+  const fs::path input = dir_ / "grid.obj", flat = dir_ / "flat";
+  write_text(input, grid_with_hole_obj());
+  fs::create_directories(flat);
+  const std::string fill = "fill " + input.string() + " ";
+  // The flat folder is the input; the output, the report or the input is
+  // one of the flat meshes.
+  expect_refusal(
+      run_cli(fill + "-o " + (dir_ / "out.obj").string() + " --flat-dir " + input.string(), dir_),
+      2, input.string());
+  for (const std::string name : {"loop0_flat_strip.obj", "loop1_flat_patch.obj"}) {
+    const std::string mesh = (flat / name).string();
+    expect_refusal(run_cli(fill + "-o " + mesh + " --flat-dir " + flat.string(), dir_), 2, mesh);
+    expect_refusal(run_cli(fill + "-o " + (dir_ / "out.obj").string() + " --report " + mesh +
+                               " --flat-dir " + flat.string(),
+                           dir_),
+                   2, mesh);
+  }
+  write_text(flat / "loop1_flat_strip.obj", grid_with_hole_obj());
+  const CliRun flat_input =
+      run_cli("fill " + (flat / "loop1_flat_strip.obj").string() + " -o " +
+                  (dir_ / "out.obj").string() + " --flat-dir " + flat.string(),
+              dir_);
+  expect_refusal(flat_input, 2, (flat / "loop1_flat_strip.obj").string());
+  EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+  // A batch's flat folders are named like its outputs: not in the output folder.
+  const fs::path in = write_batch_folder(dir_), out = dir_ / "out";
+  EXPECT_EQ(
+      run_cli("fill " + in.string() + " -o " + out.string() + " --flat-dir " + out.string(), dir_)
+          .code,
+      2);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(file_names(flat), std::vector<std::string>{"loop1_flat_strip.obj"});
+  EXPECT_EQ(slurp(flat / "loop1_flat_strip.obj"), grid_with_hole_obj());
+}
+
+TEST_F(CliTest, RenderOutputEqualToAnInputIsRefused) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_hole_obj());
+  fs::create_symlink(input, dir_ / "link.png");
+  for (const fs::path& picture : {input, dir_ / "link.png"}) {
+    const CliRun run = run_cli("render " + input.string() + " -o " + picture.string(), dir_);
+    expect_refusal(run, 2, picture.string());
+  }
+  EXPECT_EQ(slurp(input), grid_with_hole_obj());
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.png"));
+}
+
+// A fill that takes minutes (gradient descent on about 4,000 patch vertices)
+// but for its time limit.
+const char* const kSlowFill =
+    " --solver gd --coarse-start 0 --density 2 --max-iterations 1000000 --time-limit 30";
+
+TEST_F(CliTest, SignalDuringTheFillExits130AndWritesNothing) {
+  const fs::path input = dir_ / "large.obj", output = dir_ / "out.obj";
+  const fs::path report = dir_ / "report.json";
+  write_text(input, grid_obj(40, block(5, 5, 30)));
+  for (const int signo : {SIGINT, SIGTERM}) {
+    const auto start = std::chrono::steady_clock::now();
+    const CliRun run = run_cli_interrupted("fill " + input.string() + " -o " + output.string() +
+                                               " --report " + report.string() + kSlowFill,
+                                           dir_, signo, std::chrono::milliseconds(500));
+    const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
+    EXPECT_EQ(run.code, 130) << signo << ": " << run.err;
+    EXPECT_EQ(run.err, std::string("foldfill: error: interrupted (") +
+                           (signo == SIGINT ? "SIGINT" : "SIGTERM") + ")\n");
+    EXPECT_LT(seconds.count(), 10);
+    EXPECT_FALSE(fs::exists(output));
+    EXPECT_FALSE(fs::exists(report));
+    expect_no_temporary_file(dir_);
+  }
+}
+
+TEST_F(CliTest, SignalDuringABatchExits130AndWritesNothing) {
+  const fs::path in = dir_ / "in", out = dir_ / "out", report = dir_ / "report.json";
+  fs::create_directories(in);
+  write_text(in / "a.obj", grid_obj(40, block(5, 5, 30)));
+  write_text(in / "b.obj", grid_obj(40, block(4, 4, 30)));
+  for (const std::string jobs : {"1", "2"}) {
+    const CliRun run =
+        run_cli_interrupted("fill " + in.string() + " -j " + jobs + " -o " + out.string() +
+                                " --report " + report.string() + kSlowFill,
+                            dir_, SIGINT, std::chrono::milliseconds(500));
+    EXPECT_EQ(run.code, 130) << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+    EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out));
+    EXPECT_FALSE(fs::exists(report));
+    expect_no_temporary_file(dir_);
+  }
+}
+
+TEST_F(CliTest, OutputNameOf250BytesIsWritten) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_hole_obj());
+  // 250 bytes: the longest names leave no room for a suffix (NAME_MAX is 255).
+  const fs::path output = dir_ / (std::string(246, 'o') + ".obj");
+  const fs::path report = dir_ / (std::string(245, 'r') + ".json");
+  const CliRun run = run_cli(
+      "fill " + input.string() + " -o " + output.string() + " --report " + report.string(), dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_GT(read_mesh(output.string()).face_count(), read_mesh(input.string()).face_count());
+  EXPECT_TRUE(nlohmann::json::parse(slurp(report))["holes"][0]["filled"].get<bool>());
+  expect_no_temporary_file(dir_);
+}
+
+TEST_F(CliTest, WrittenFilesHaveTheModeOfNewFiles) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const mode_t old_mask = umask(027);
+  const CliRun run = run_cli("fill " + input.string() + " -o " + output.string(), dir_);
+  umask(old_mask);
+  ASSERT_EQ(run.code, 0) << run.err;
+  struct stat status {};
+  ASSERT_EQ(stat(output.c_str(), &status), 0);
+  EXPECT_EQ(status.st_mode & 0777, 0640u);
+}
+
+TEST_F(CliTest, FlatDirUnderARegularFileIsAWriteError) {
+  const fs::path input = dir_ / "grid.obj", notes = dir_ / "notes.txt";
+  write_text(input, grid_with_hole_obj());
+  write_text(notes, "not a folder");
+  const std::string flat = (notes / "sub").string();
+  expect_refusal(run_cli("fill " + input.string() + " -o " + (dir_ / "out.obj").string() +
+                             " --flat-dir " + flat,
+                         dir_),
+                 10, flat);
+  EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+  const fs::path in = write_batch_folder(dir_);
+  expect_refusal(
+      run_cli("fill " + in.string() + " -o " + (dir_ / "out").string() + " --flat-dir " + flat,
+              dir_),
+      10, flat);
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  expect_refusal(run_cli("demo " + (notes / "demo").string(), dir_), 10, (notes / "demo").string());
+  EXPECT_EQ(slurp(notes), "not a folder");
+}
+
+TEST_F(CliTest, NanAndInfiniteOptionValuesAreRefused) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const std::string fill = "fill " + input.string() + " -o " + output.string() + " ";
+  const std::string render = "render " + input.string() + " -o " + (dir_ / "p.png").string() + " ";
+  for (const std::string& command :
+       {fill + "--lambda nan", fill + "--shrink nan", fill + "--time-limit nan",
+        fill + "--density nan", fill + "--repulsion nan", fill + "--alpha nan", fill + "--beta nan",
+        fill + "--mu nan", fill + "--near nan,nan,nan", fill + "--max-iterations nan",
+        fill + "--lambda inf", fill + "--repulsion inf", fill + "--time-limit inf",
+        fill + "--near 0,0,inf", fill + "--alpha -inf", render + "--azimuth nan",
+        render + "--elevation inf"}) {
+    const CliRun run = run_cli(command, dir_);
+    const std::string option = command.substr(command.rfind("--"));
+    const std::string name = option.substr(0, option.find(' '));
+    EXPECT_EQ(run.code, 2) << command;
+    EXPECT_EQ(run.err.rfind("foldfill: error: " + name + ": ", 0), 0u) << run.err;
+    EXPECT_EQ(line_count(run.err), 1) << run.err;
+  }
+  EXPECT_FALSE(fs::exists(output));
+  EXPECT_FALSE(fs::exists(dir_ / "p.png"));
+}
+
+TEST_F(CliTest, TrailingGarbageInOptionValuesIsRefused) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const std::string fill = "fill " + input.string() + " -o " + output.string() + " ";
+  for (const std::string option :
+       {"--holes 1abc", "--holes 0,", "--holes 0,,1", "--holes 1.0", "--holes 0x1",
+        "--max-iterations 10abc", "--lambda 0.1x", "--keep-open 1z", "--jobs 2x"}) {
+    const CliRun run = run_cli(fill + option, dir_);
+    EXPECT_EQ(run.code, 2) << option;
+    EXPECT_EQ(run.err.rfind("foldfill: error: " + option.substr(0, option.find(' ')) + ": ", 0), 0u)
+        << run.err;
+    EXPECT_EQ(line_count(run.err), 1) << run.err;
+  }
+  EXPECT_FALSE(fs::exists(output));
+}
+
+TEST_F(CliTest, UsageErrorsAreOneLine) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const std::string fill = "fill " + input.string() + " ";
+  for (const std::string& arguments :
+       {fill + "-o " + output.string() + " --bogus", fill + "-o", fill, std::string(),
+        fill + "-o " + output.string() + " --method x", std::string("holes")}) {
+    const CliRun run = run_cli(arguments, dir_);
+    EXPECT_EQ(run.code, 2) << arguments;
+    EXPECT_EQ(run.err.rfind("foldfill: error: ", 0), 0u) << run.err;
+    EXPECT_EQ(line_count(run.err), 1) << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+  EXPECT_FALSE(fs::exists(output));
+  for (const std::string arguments : {"--help", "fill --help", "--version"}) {
+    const CliRun run = run_cli(arguments, dir_);
+    EXPECT_EQ(run.code, 0) << arguments;
+    EXPECT_NE(run.out.find(arguments == "--version" ? "foldfill 0.1.0"
+                           : arguments == "--help"  ? "fill"
+                                                    : "--output"),
+              std::string::npos)
+        << run.out;
+    EXPECT_TRUE(run.err.empty()) << run.err;
+  }
+}
+
+// A 5 x 5 vertex grid without two quads that share a corner: the hole's loop
+// passes that vertex twice, so the default leaves it open with a warning.
+std::string pinched_hole_obj() { return grid_obj(5, {{1, 1}, {2, 2}}, 0.0); }
+
+// An open cylinder: two loops of the same length, neither turning like a
+// hole, so the default and --holes auto differ, with a warning.
+std::string tube_obj() {
+  std::string obj;
+  const int sides = 12, rings = 4;
+  for (int r = 0; r < rings; ++r) {
+    for (int i = 0; i < sides; ++i) {
+      const double t = 2 * M_PI * i / sides;
+      obj += "v " + std::to_string(std::cos(t)) + " " + std::to_string(std::sin(t)) + " " +
+             std::to_string(r) + "\n";
+    }
+  }
+  for (int r = 0; r + 1 < rings; ++r) {
+    for (int i = 0; i < sides; ++i) {
+      const int a = r * sides + i + 1, b = r * sides + (i + 1) % sides + 1;
+      obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(b + sides) +
+             "\n";
+      obj += "f " + std::to_string(a) + " " + std::to_string(b + sides) + " " +
+             std::to_string(a + sides) + "\n";
+    }
+  }
+  return obj;
+}
+
+TEST_F(CliTest, QuietPrintsNoWarnings) {
+  const fs::path in = dir_ / "in";
+  fs::create_directories(in);
+  write_text(in / "a.obj", pinched_hole_obj());
+  write_text(in / "b.obj", pinched_hole_obj());
+  const CliRun single =
+      run_cli("fill " + (in / "a.obj").string() + " -q -o " + (dir_ / "a.obj").string(), dir_);
+  EXPECT_EQ(single.code, 0) << single.err;
+  EXPECT_TRUE(single.err.empty()) << single.err;
+  EXPECT_TRUE(single.out.empty()) << single.out;
+  const CliRun batch = run_cli("fill " + in.string() + " -q -o " + (dir_ / "out").string(), dir_);
+  EXPECT_EQ(batch.code, 0) << batch.err;
+  EXPECT_TRUE(batch.err.empty()) << batch.err;
+  EXPECT_TRUE(batch.out.empty()) << batch.out;
+  // Without --quiet they are there.
+  const CliRun loud =
+      run_cli("fill " + (in / "a.obj").string() + " -o " + (dir_ / "a.obj").string(), dir_);
+  EXPECT_NE(loud.err.find("foldfill: warning: "), std::string::npos) << loud.err;
+}
+
+TEST_F(CliTest, WarningsNameTheirFileOnce) {
+  const fs::path in = dir_ / "in";
+  fs::create_directories(in);
+  write_text(in / "pinched.obj", pinched_hole_obj());
+  write_text(in / "tube.obj", tube_obj());
+  const std::string pinched = (in / "pinched.obj").string(), tube = (in / "tube.obj").string();
+  const CliRun single = run_cli("fill " + pinched + " -o " + (dir_ / "a.obj").string(), dir_);
+  EXPECT_EQ(single.code, 0) << single.err;
+  EXPECT_NE(single.err.find("foldfill: warning: " + pinched + ": loop 1 is not a disk boundary"),
+            std::string::npos)
+      << single.err;
+  const CliRun batch = run_cli("fill " + in.string() + " -o " + (dir_ / "out").string(), dir_);
+  EXPECT_NE(batch.err.find("foldfill: warning: " + pinched + ": loop 1 is not a disk boundary"),
+            std::string::npos)
+      << batch.err;
+  EXPECT_NE(batch.err.find("foldfill: warning: " + tube + ": the default fills"), std::string::npos)
+      << batch.err;
+  for (const CliRun& run : {single, batch}) {
+    std::istringstream lines(run.err);
+    for (std::string line; std::getline(lines, line);) {
+      EXPECT_TRUE(line.rfind("foldfill: warning: " + pinched + ": ", 0) == 0 ||
+                  line.rfind("foldfill: warning: " + tube + ": ", 0) == 0 ||
+                  line.rfind("foldfill: error: " + tube + ": ", 0) == 0)
+          << line;
+    }
+    for (const std::string& path : {pinched, tube}) {
+      EXPECT_EQ(run.err.find(path + ": " + path), std::string::npos) << run.err;
+      EXPECT_EQ(run.out.find(path + ": " + path), std::string::npos) << run.out;
+      EXPECT_EQ(run.err.find(path + ": loop 1: " + path), std::string::npos) << run.err;
+      EXPECT_EQ(run.out.find(path + ": loop 1: " + path), std::string::npos) << run.out;
+    }
+  }
 }
 
 }  // namespace
