@@ -5,6 +5,7 @@
 //   foldfill demo OUTDIR                  fill a built-in folded sheet
 //   foldfill render IN FILLED -o PNG      picture of a mesh before and after
 #include <fmt/core.h>
+#include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -125,6 +126,7 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
                               {"hole_like", turns_like_a_hole(loop)},
                               {"disk", loop.is_disk},
                               {"reason", loop.reason},
+                              {"split_at", loop.split_at},
                               {"vertices", loop.vertices}});
     }
     fmt::print("{}\n", out.dump(1));
@@ -136,10 +138,13 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
     fmt::print(
         "loop {}: {} vertices, length {:.6g}, centroid {}, bbox diagonal {:.6g}, turning {:.0f} "
         "deg "
-        "({}), {}{}\n",
+        "({}), {}{}{}\n",
         loop.id, loop.vertices.size(), loop.length, format_vec(loop.centroid), loop.bbox_diagonal,
         loop.turning * 180 / M_PI, turns_like_a_hole(loop) ? "hole-like" : "edge-like",
         is_outer(loop.id) ? "outer (left open by default)" : "filled by default",
+        loop.split_at.empty() ? ""
+                              : fmt::format(", split from the boundary at vertex {}",
+                                            fmt::join(loop.split_at, ", ")),
         loop.is_disk ? "" : ", not a disk: " + loop.reason);
   }
   return 0;

@@ -754,9 +754,12 @@ TEST_F(CliTest, UsageErrorsAreOneLine) {
   }
 }
 
-// A 5 x 5 vertex grid without two quads that share a corner: the hole's loop
-// passes that vertex twice, so the default leaves it open with a warning.
-std::string pinched_hole_obj() { return grid_obj(5, {{1, 1}, {2, 2}}, 0.0); }
+// A 5 x 5 vertex grid and a triangle that touches its corner vertex: the two
+// pieces meet only there, so the triangle's loop (loop 1) is not a disk
+// boundary and the default leaves it open with a warning.
+std::string pinched_hole_obj() {
+  return grid_obj(5, {}, 0.0) + "v -1 0 0\nv 0 -1 0\nf 1 26 27\n";
+}
 
 // An open cylinder: two loops of the same length, neither turning like a
 // hole, so the default and --holes auto differ, with a warning.
