@@ -1,0 +1,184 @@
+// The geometry of an intersection-free fill: distances between point-triangle
+// (PT) and edge-edge (EE) pairs with their gradients, the log barrier of
+// Incremental Potential Contact (Li et al. 2020) on them, a conservative time
+// of impact along a linear step (Additive CCD, Li et al. 2021), and the
+// broad phase that finds the candidate pairs of a mesh whose free vertices
+// move among fixed ones.
+//
+// Plain doubles throughout; positions and displacements of a whole mesh are
+// flat arrays of 3 per vertex (x, y, z), like the rows of an Eigen row-major
+// n x 3 matrix or the data of a std::vector<Vec3>. Nothing here has an
+// absolute tolerance: thresholds are relative to the lengths of the inputs,
+// so that scaling a problem scales every distance and leaves every time of
+// impact as it is.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "foldfill/box_tree.h"
+#include "foldfill/mesh.h"
+
+namespace foldfill {
+
+// ---------------------------------------------------------------------------
+// Distances. Gradients by the envelope theorem: the gradient of d^2 with
+// respect to a vertex is 2 (q_self - q_other) times that vertex's weight in
+// the closest point q_self of its primitive, where (q_self, q_other) is the
+// closest pair of points. They are exact where the closest pair is unique and
+// moves smoothly (everywhere for a point and a triangle in general position);
+// elsewhere (parallel edges, a point equidistant from two edges) they are
+// the gradient of one of the closest pairs, a subgradient.
+
+// Squared distance from `p` to the triangle (a, b, c), exact for every region
+// (the face, its three edges, its three corners) and for degenerate
+// triangles (collinear or coincident corners: the distance to the segments).
+// `gradient`, when non-null, receives d(d^2)/dp, /da, /db, /dc.
+double point_triangle_distance_squared(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                       std::array<Vec3, 4>* gradient = nullptr);
+
+// Squared distance between the segments [a0, a1] and [b0, b1], robust for
+// parallel and zero-length segments. `gradient`, when non-null, receives
+// d(d^2)/da0, /da1, /db0, /db1.
+double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                                  std::array<Vec3, 4>* gradient = nullptr);
+
+// ---------------------------------------------------------------------------
+// The barrier of IPC: b(d) = -(d - dhat)^2 ln(d / dhat) for 0 < d < dhat, 0
+// for d >= dhat, +infinity for d <= 0. It is C2 at dhat and grows without
+// bound as d -> 0. `derivative`, when non-null, receives db/dd (-infinity for
+// d <= 0). dhat > 0.
+double barrier(double d, double dhat, double* derivative = nullptr);
+// The same barrier as a function of the squared distance: b(sqrt(d2)), and
+// its derivative with respect to d2, db/dd / (2 d).
+double barrier_of_squared(double d2, double dhat, double* derivative = nullptr);
+
+// ---------------------------------------------------------------------------
+// Continuous collision detection along a linear step: vertex x moves to
+// x + t dx for t in [0, t_max].
+
+struct CcdOptions {
+  // s: the time of impact is taken where the distance would fall below s
+  // times the distance at t = 0 (the first step goes (1 - s) of the way).
+  double gap = 0.1;
+  // Steps after the first advance by this fraction of the distance over the
+  // bound on the relative speed (0.9 in the paper).
+  double rescaling = 0.9;
+  double t_max = 1;
+  // Iterations before giving up with the time reached so far (a valid,
+  // conservative answer); a pair needs many only when it slides along at a
+  // distance small against its relative motion.
+  int max_iterations = 10000;
+};
+
+// Additive CCD (Li et al. 2021, "Codimensional Incremental Potential
+// Contact", algorithm 1): a time of impact toi in [0, t_max] such that the
+// pair's distance stays positive on [0, toi]: at least (1 - rescaling) * gap
+// times its distance at t = 0 everywhere, and at least gap times that at toi
+// itself when toi < t_max (up to rounding in the distance). t_max when the
+// pair cannot come that close on [0, t_max] (also when it does not move
+// relative to itself); 0 when it starts in contact. The result is min(toi
+// for an unbounded t_max, t_max): lowering t_max never changes a time below
+// it, so that a minimum over many pairs may shrink t_max as it goes.
+//
+// The point p against the triangle (a, b, c), moving by dp, da, db, dc.
+double point_triangle_ccd(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                          const Vec3& dp, const Vec3& da, const Vec3& db, const Vec3& dc,
+                          const CcdOptions& options = {});
+// The point p moving by dp against the fixed triangle (a, b, c).
+double point_static_triangle_ccd(const Vec3& p, const Vec3& dp, const Vec3& a, const Vec3& b,
+                                 const Vec3& c, const CcdOptions& options = {});
+// The segment [a0, a1] against [b0, b1], moving by da0, da1, db0, db1.
+double edge_edge_ccd(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                     const Vec3& da0, const Vec3& da1, const Vec3& db0, const Vec3& db1,
+                     const CcdOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// A mesh's collision primitives: its vertices (points), edges and faces.
+// Vertices [0, fixed_count) never move; a primitive all of whose vertices
+// are fixed is static, the others move. Pairs of two static primitives are
+// never candidates: nothing can change between them.
+struct CollisionMesh {
+  std::vector<Tri> faces;
+  std::vector<std::array<int, 2>> edges;  // (v0 < v1), sorted, each once
+  int vertex_count = 0;
+  int fixed_count = 0;
+};
+
+// The collision mesh of `faces` over `vertex_count` vertices with the edges
+// of the faces. Throws Error(Internal) for a vertex index out of range or
+// fixed_count outside [0, vertex_count].
+CollisionMesh make_collision_mesh(const std::vector<Tri>& faces, int vertex_count, int fixed_count);
+
+// Candidate pairs, sorted, each once: (vertex, face) with the vertex not a
+// corner of the face, and (edge, edge) with the first index below the
+// second and no vertex in common.
+struct CollisionCandidates {
+  std::vector<IndexPair> point_triangle;
+  std::vector<IndexPair> edge_edge;
+  size_t size() const { return point_triangle.size() + edge_edge.size(); }
+};
+
+// Finds the candidate pairs of a CollisionMesh: the pairs (but static ones)
+// whose bounding boxes are within a distance of each other along every axis.
+// Box trees of the static points, edges and faces are built once, at
+// construction, from the fixed vertices' positions then (those positions
+// must not change); trees of the moving primitives are refitted at each
+// search and rebuilt when refitting has made them much slower to search.
+// Results do not depend on the thread count nor on the trees' state. One
+// object must not search from two threads at once (it keeps scratch).
+class CollisionBroadPhase {
+ public:
+  CollisionBroadPhase() = default;
+  CollisionBroadPhase(const CollisionMesh& mesh, const double* positions);
+
+  // Every candidate pair (see CollisionCandidates) of primitives whose boxes
+  // at `positions` are within `distance` along every axis: a superset of the
+  // pairs closer than `distance`. With `displacements` (may be null), each
+  // moving primitive's box spans it at x and at x + dx (its swept box): then
+  // a superset of the pairs that come closer than `distance` at some t in
+  // [0, 1] of the step x + t dx. Fixed vertices' displacements are ignored.
+  // `candidates` is overwritten; its vectors keep their capacity.
+  void find(const double* positions, const double* displacements, double distance,
+            CollisionCandidates& candidates);
+
+  const CollisionMesh& mesh() const { return mesh_; }
+
+ private:
+  void moving_boxes(const double* positions, const double* displacements);
+  void update_trees();
+
+  CollisionMesh mesh_;
+  // Mesh indices of the static and moving edges and faces (vertices are
+  // static below fixed_count).
+  std::vector<int> static_edges_, moving_edges_, static_faces_, moving_faces_;
+  BoxTree static_points_, static_edge_tree_, static_face_tree_;
+  BoxTree moving_points_, moving_edge_tree_, moving_face_tree_;
+  // Costs of the moving trees when last built (see BoxTree::cost).
+  double built_cost_[3] = {0, 0, 0};
+  bool built_ = false;
+  std::vector<Box> point_boxes_, edge_boxes_, face_boxes_;                      // moving primitives
+  std::vector<std::vector<IndexPair>> point_triangle_parts_, edge_edge_parts_;  // per thread
+  std::vector<int> sort_scratch_;
+};
+
+// The largest step fraction t in [0, t_max] such that no candidate pair comes
+// into contact on [0, t] along positions + t displacements (both 3 per vertex
+// of `mesh`): the minimum of the pairs' Additive CCD times of impact (see
+// point_triangle_ccd). The candidates must cover the step (found with the
+// displacements, or with a distance at least the step's largest relative
+// displacement). t_max for no pair. In parallel; the result does not depend
+// on the thread count.
+double collision_step_bound(const CollisionMesh& mesh, const double* positions,
+                            const double* displacements, const CollisionCandidates& candidates,
+                            const CcdOptions& options = {});
+
+// Sum over the candidate pairs of barrier(distance, dhat); adds `weight` times
+// its gradient (3 per vertex) to `gradient` when non-null. Summed in the
+// candidates' order: the same bit for bit for the same candidates. A pair at
+// distance 0 makes it +infinity (the gradient is then not meaningful).
+double barrier_potential(const CollisionMesh& mesh, const double* positions,
+                         const CollisionCandidates& candidates, double dhat, double weight = 1,
+                         double* gradient = nullptr);
+
+}  // namespace foldfill

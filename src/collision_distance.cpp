@@ -1,0 +1,179 @@
+// Point-triangle and edge-edge distances with their gradients, and the IPC
+// log barrier on them.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "foldfill/collision.h"
+
+namespace foldfill {
+namespace {
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 scaled(const Vec3& a, double s) { return {s * a[0], s * a[1], s * a[2]}; }
+
+// Below this squared sine of the angle between two edge vectors, their cross
+// product is too inaccurate to give a normal (a relative error of about
+// 1e-16 / 1e-7): the triangle is taken as degenerate, the edges as parallel.
+// The closest points are then on the boundary (the triangle's edges, the
+// segments' ends), which is exact for truly degenerate inputs and off by at
+// most the squared height of the sliver, below 1e-14 of its squared edge
+// lengths, otherwise.
+constexpr double kDegenerate = 1e-14;
+
+// Squared distance from `p` to the segment [a, b] (a point when a == b), with
+// the parameter t of the closest point a + t (b - a) and p minus that point.
+double point_segment(const Vec3& p, const Vec3& a, const Vec3& b, double& t, Vec3& difference) {
+  const Vec3 ab = sub(b, a), ap = sub(p, a);
+  const double length_sq = dot(ab, ab);
+  t = length_sq > 0 ? std::clamp(dot(ap, ab) / length_sq, 0.0, 1.0) : 0.0;
+  difference = {ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]};
+  return dot(difference, difference);
+}
+
+}  // namespace
+
+// In the plane of a proper triangle the projection of p has barycentric
+// weights (u, v, w); all >= 0: the face is nearest. Otherwise the nearest
+// point is on the edges opposite the negative weights (one, or two meeting
+// at the corner of the positive weight): the triangle lies on the inner side
+// of the line of each edge, and a point on the inner side of an edge's line
+// is never nearest to that edge's interior. A degenerate triangle is its
+// three segments.
+double point_triangle_distance_squared(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                       std::array<Vec3, 4>* gradient) {
+  const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const Vec3 n = cross(ab, ac);
+  const double nn = dot(n, n);
+  // Edges to try: bit 0 for (a, b), bit 1 for (b, c), bit 2 for (c, a).
+  int edges = 7;
+  if (nn > kDegenerate * dot(ab, ab) * dot(ac, ac)) {
+    const double inverse = 1 / nn;
+    const double v = dot(n, cross(ap, ac)) * inverse, w = dot(n, cross(ab, ap)) * inverse;
+    const double u = 1 - v - w;
+    if (u >= 0 && v >= 0 && w >= 0) {
+      // Height over the plane from the normal (accurate when p is close).
+      const double height = dot(n, ap);
+      if (gradient) {
+        const Vec3 d = scaled(n, 2 * height * inverse);  // 2 (p - q)
+        (*gradient)[0] = d;
+        (*gradient)[1] = scaled(d, -u);
+        (*gradient)[2] = scaled(d, -v);
+        (*gradient)[3] = scaled(d, -w);
+      }
+      return height * height * inverse;
+    }
+    edges = (w < 0 ? 1 : 0) | (u < 0 ? 2 : 0) | (v < 0 ? 4 : 0);
+  }
+  const Vec3* corner[3] = {&a, &b, &c};
+  double best = std::numeric_limits<double>::infinity(), best_t = 0;
+  int best_edge = 0;
+  Vec3 best_difference{0, 0, 0};
+  for (int e = 0; e < 3; ++e) {
+    if (!(edges >> e & 1)) continue;
+    double t;
+    Vec3 difference;
+    const double d2 = point_segment(p, *corner[e], *corner[(e + 1) % 3], t, difference);
+    if (d2 < best) {
+      best = d2;
+      best_t = t;
+      best_edge = e;
+      best_difference = difference;
+    }
+  }
+  if (gradient) {
+    const Vec3 d = scaled(best_difference, 2);
+    (*gradient)[0] = d;
+    for (int k = 1; k < 4; ++k) (*gradient)[k] = {0, 0, 0};
+    (*gradient)[1 + best_edge] = scaled(d, -(1 - best_t));
+    (*gradient)[1 + (best_edge + 1) % 3] = scaled(d, -best_t);
+  }
+  return best;
+}
+
+// The closest points are a0 + s (a1 - a0) and b0 + t (b1 - b0) with (s, t)
+// minimising a convex quadratic over the unit square: where the lines are
+// closest when that is inside the square, else on the square's boundary,
+// i.e. an end of one segment against the other segment.
+double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                                  std::array<Vec3, 4>* gradient) {
+  const Vec3 u = sub(a1, a0), v = sub(b1, b0), w = sub(a0, b0);
+  const Vec3 n = cross(u, v);
+  const double nn = dot(n, n);
+  if (nn > kDegenerate * dot(u, u) * dot(v, v)) {
+    // w + s u - t v is parallel to n: cross with v (resp. u) and dot with n.
+    const double inverse = 1 / nn;
+    const double s = dot(n, cross(v, w)) * inverse, t = dot(n, cross(u, w)) * inverse;
+    if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
+      const double height = dot(n, w);
+      if (gradient) {
+        const Vec3 d = scaled(n, 2 * height * inverse);  // 2 (qa - qb)
+        (*gradient)[0] = scaled(d, 1 - s);
+        (*gradient)[1] = scaled(d, s);
+        (*gradient)[2] = scaled(d, -(1 - t));
+        (*gradient)[3] = scaled(d, -t);
+      }
+      return height * height * inverse;
+    }
+  }
+  // The four ends against the other segment; `difference` is qa - qb.
+  double best = std::numeric_limits<double>::infinity(), best_s = 0, best_t = 0;
+  Vec3 best_difference{0, 0, 0};
+  const auto consider = [&](double d2, double s, double t, const Vec3& difference) {
+    if (d2 < best) {
+      best = d2;
+      best_s = s;
+      best_t = t;
+      best_difference = difference;
+    }
+  };
+  double parameter;
+  Vec3 difference;
+  double d2 = point_segment(a0, b0, b1, parameter, difference);
+  consider(d2, 0, parameter, difference);
+  d2 = point_segment(a1, b0, b1, parameter, difference);
+  consider(d2, 1, parameter, difference);
+  d2 = point_segment(b0, a0, a1, parameter, difference);
+  consider(d2, parameter, 0, scaled(difference, -1));
+  d2 = point_segment(b1, a0, a1, parameter, difference);
+  consider(d2, parameter, 1, scaled(difference, -1));
+  if (gradient) {
+    const Vec3 d = scaled(best_difference, 2);
+    (*gradient)[0] = scaled(d, 1 - best_s);
+    (*gradient)[1] = scaled(d, best_s);
+    (*gradient)[2] = scaled(d, -(1 - best_t));
+    (*gradient)[3] = scaled(d, -best_t);
+  }
+  return best;
+}
+
+// ln(d / dhat) by log1p near dhat, where d / dhat rounds to a few bits of 1,
+// and by log far below it, where (d - dhat) / dhat would round to -1.
+double barrier(double d, double dhat, double* derivative) {
+  if (!(d > 0)) {
+    if (derivative) *derivative = -std::numeric_limits<double>::infinity();
+    return std::numeric_limits<double>::infinity();
+  }
+  if (d >= dhat) {
+    if (derivative) *derivative = 0;
+    return 0;
+  }
+  const double gap = d - dhat;
+  const double log = d > 0.5 * dhat ? std::log1p(gap / dhat) : std::log(d / dhat);
+  if (derivative) *derivative = -2 * gap * log - gap * gap / d;
+  return -gap * gap * log;
+}
+
+double barrier_of_squared(double d2, double dhat, double* derivative) {
+  const double d = std::sqrt(d2);
+  double db = 0;
+  const double value = barrier(d, dhat, derivative ? &db : nullptr);
+  if (derivative) *derivative = d > 0 ? db / (2 * d) : db;
+  return value;
+}
+
+}  // namespace foldfill
