@@ -31,44 +31,51 @@ void extend(Box& box, const Box& other) {
 
 }  // namespace
 
+// A box being placed: its centre (infinite for an empty box, so that empty
+// boxes gather at the end of the order) and index.
+struct BoxTree::Item {
+  Vec3 centre;
+  int id;
+};
+
 void BoxTree::build(const std::vector<Box>& boxes) {
   const int n = static_cast<int>(boxes.size());
   nodes_.clear();
-  leaves_.clear();
   ids_.resize(n);
   boxes_.resize(n);
   if (n == 0) return;
-  // Empty boxes get an infinite centre: they gather at the end of the order.
-  std::vector<Vec3> centre(n);
+  std::vector<Item> items(n);
   for (int i = 0; i < n; ++i) {
-    ids_[i] = i;
     const Box& box = boxes[i];
+    const bool empty = is_empty(box);
     for (int c = 0; c < 3; ++c) {
-      centre[i][c] = is_empty(box) ? kInfinity : 0.5 * box.low[c] + 0.5 * box.high[c];
+      items[i].centre[c] = empty ? kInfinity : 0.5 * box.low[c] + 0.5 * box.high[c];
     }
+    items[i].id = i;
   }
   nodes_.reserve(2 * (n / (kLeafSize / 2) + 1));
-  build_node(0, n, centre);
-  for (int k = 0; k < n; ++k) boxes_[k] = canonical(boxes[ids_[k]]);
+  build_node(items, 0, n);
+  for (int k = 0; k < n; ++k) {
+    ids_[k] = items[k].id;
+    boxes_[k] = canonical(boxes[ids_[k]]);
+  }
   refit_nodes();
 }
 
-// The node of ids_[begin, end): a leaf for a few boxes, else split at the
+// The node of items [begin, end): a leaf for a few boxes, else split at the
 // median of the centres along the axis where they spread most (ties by box
-// index, so that the split is unique). Returns its index.
-int BoxTree::build_node(int begin, int end, const std::vector<Vec3>& centre) {
+// index, so that the split is unique).
+void BoxTree::build_node(std::vector<Item>& items, int begin, int end) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
     nodes_[index].first = begin;
     nodes_[index].count = end - begin;
-    nodes_[index].end = index + 1;
-    leaves_.push_back(index);
-    return index;
+    return;
   }
   double low[3] = {kInfinity, kInfinity, kInfinity}, high[3] = {-kInfinity, -kInfinity, -kInfinity};
   for (int k = begin; k < end; ++k) {
-    const Vec3& c = centre[ids_[k]];
+    const Vec3& c = items[k].centre;
     if (!std::isfinite(c[0])) continue;
     for (int a = 0; a < 3; ++a) {
       low[a] = std::min(low[a], c[a]);
@@ -80,15 +87,14 @@ int BoxTree::build_node(int begin, int end, const std::vector<Vec3>& centre) {
     if (high[a] - low[a] > high[axis] - low[axis]) axis = a;
   }
   const int mid = begin + (end - begin) / 2;
-  std::nth_element(ids_.begin() + begin, ids_.begin() + mid, ids_.begin() + end, [&](int i, int j) {
-    const double ci = centre[i][axis], cj = centre[j][axis];
-    return ci < cj || (ci == cj && i < j);
-  });
-  build_node(begin, mid, centre);
-  const int right = build_node(mid, end, centre);
-  nodes_[index].first = right;
-  nodes_[index].end = static_cast<int>(nodes_.size());
-  return index;
+  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                   [axis](const Item& p, const Item& q) {
+                     return p.centre[axis] < q.centre[axis] ||
+                            (p.centre[axis] == q.centre[axis] && p.id < q.id);
+                   });
+  build_node(items, begin, mid);
+  nodes_[index].first = static_cast<int>(nodes_.size());
+  build_node(items, mid, end);
 }
 
 // Children follow their parent: one backward pass sets every node's box.
@@ -161,37 +167,111 @@ void sort_index_pairs(std::vector<IndexPair>& pairs, int first_count) {
   sort_index_pairs(parts, first_count, pairs, start);
 }
 
+std::vector<BoxTree::SearchPart> BoxTree::split_search(const BoxTree& other, double margin,
+                                                       int count) const {
+  std::vector<SearchPart> parts, next;
+  if (nodes_.empty() || other.nodes_.empty()) return parts;
+  parts.push_back({0, 0});
+  // Split every part one level down until there are enough.
+  while (static_cast<int>(parts.size()) < count) {
+    next.clear();
+    bool split = false;
+    for (const SearchPart& part : parts) {
+      const Node &a = nodes_[part.a], &b = other.nodes_[part.b];
+      if (!boxes_meet(a.box, b.box, margin)) continue;
+      if (a.count > 0 && b.count > 0) {
+        next.push_back(part);
+      } else if (descend_first(other, part.a, part.b)) {
+        next.push_back({part.a + 1, part.b});
+        next.push_back({a.first, part.b});
+        split = true;
+      } else {
+        next.push_back({part.a, part.b + 1});
+        next.push_back({part.a, b.first});
+        split = true;
+      }
+    }
+    parts.swap(next);
+    if (!split) break;
+  }
+  return parts;
+}
+
+std::vector<BoxTree::SearchPart> BoxTree::split_search(double margin, int count) const {
+  std::vector<SearchPart> parts, next;
+  if (nodes_.empty()) return parts;
+  parts.push_back({0, 0});
+  while (static_cast<int>(parts.size()) < count) {
+    next.clear();
+    bool split = false;
+    for (const SearchPart& part : parts) {
+      const Node &a = nodes_[part.a], &b = nodes_[part.b];
+      if (part.a == part.b) {
+        if (a.count > 0) {
+          next.push_back(part);
+        } else {
+          next.push_back({part.a + 1, part.a + 1});
+          next.push_back({a.first, a.first});
+          next.push_back({part.a + 1, a.first});
+          split = true;
+        }
+      } else if (!boxes_meet(a.box, b.box, margin)) {
+        continue;
+      } else if (a.count > 0 && b.count > 0) {
+        next.push_back(part);
+      } else if (descend_first(*this, part.a, part.b)) {
+        next.push_back({part.a + 1, part.b});
+        next.push_back({a.first, part.b});
+        split = true;
+      } else {
+        next.push_back({part.a, part.b + 1});
+        next.push_back({part.a, b.first});
+        split = true;
+      }
+    }
+    parts.swap(next);
+    if (!split) break;
+  }
+  return parts;
+}
+
 namespace {
 
-// Pairs found group by group over threads, each thread into its own list,
-// then sorted: the order the threads found them in does not matter.
+// Parts of a search per thread: enough for an even share of the work.
+constexpr int kPartsPerThread = 32;
+
+// Pairs found part by part over threads, each thread into its own list, then
+// sorted: the order the threads found them in does not matter.
 template <typename Search>
-std::vector<IndexPair> collect_sorted(int groups, int first_count, const Search& search) {
-  std::vector<std::vector<IndexPair>> parts(omp_get_max_threads());
+std::vector<IndexPair> collect_sorted(int parts, int first_count, const Search& search) {
+  std::vector<std::vector<IndexPair>> found(omp_get_max_threads());
 #pragma omp parallel
   {
-    std::vector<IndexPair>& part = parts[omp_get_thread_num()];
-#pragma omp for schedule(dynamic, 16)
-    for (int g = 0; g < groups; ++g) search(g, part);
+    std::vector<IndexPair>& part = found[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1)
+    for (int p = 0; p < parts; ++p) search(p, part);
   }
   std::vector<IndexPair> sorted;
   std::vector<int> start;
-  sort_index_pairs(parts, first_count, sorted, start);
+  sort_index_pairs(found, first_count, sorted, start);
   return sorted;
 }
 
 }  // namespace
 
 std::vector<IndexPair> meeting_pairs(const BoxTree& a, const BoxTree& b, double margin) {
-  return collect_sorted(a.group_count(), a.box_count(), [&](int g, std::vector<IndexPair>& out) {
-    a.for_each_meeting_pair(g, b, margin, [&](int i, int j) { out.push_back({i, j}); });
-  });
+  const auto parts = a.split_search(b, margin, kPartsPerThread * omp_get_max_threads());
+  return collect_sorted(
+      static_cast<int>(parts.size()), a.box_count(), [&](int p, std::vector<IndexPair>& out) {
+        a.for_each_meeting_pair(parts[p], b, margin, [&](int i, int j) { out.push_back({i, j}); });
+      });
 }
 
 std::vector<IndexPair> meeting_pairs(const BoxTree& tree, double margin) {
-  return collect_sorted(tree.group_count(), tree.box_count(),
-                        [&](int g, std::vector<IndexPair>& out) {
-                          tree.for_each_meeting_pair(g, margin, [&](int i, int j) {
+  const auto parts = tree.split_search(margin, kPartsPerThread * omp_get_max_threads());
+  return collect_sorted(static_cast<int>(parts.size()), tree.box_count(),
+                        [&](int p, std::vector<IndexPair>& out) {
+                          tree.for_each_meeting_pair(parts[p], margin, [&](int i, int j) {
                             out.push_back({std::min(i, j), std::max(i, j)});
                           });
                         });

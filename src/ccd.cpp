@@ -37,10 +37,22 @@ double additive_ccd(const Corners& x, Corners dx, int split, const DistanceSquar
     reach[k >= split] = std::max(reach[k >= split], norm(dx[k]));
   }
   const double speed = reach[0] + reach[1];
+  if (speed == 0) return distance_sq(x) > 0 ? options.t_max : 0;
+  // The gap between the two primitives' boxes, a lower bound on d0: when
+  // even the first step from it passes t_max, so does the one from d0, and
+  // the distance need not be computed (most pairs of a broad phase).
+  double gap = 0;
+  for (int c = 0; c < 3; ++c) {
+    double low[2] = {HUGE_VAL, HUGE_VAL}, high[2] = {-HUGE_VAL, -HUGE_VAL};
+    for (int k = 0; k < 4; ++k) {
+      low[k >= split] = std::min(low[k >= split], x[k][c]);
+      high[k >= split] = std::max(high[k >= split], x[k][c]);
+    }
+    gap = std::max({gap, low[1] - high[0], low[0] - high[1]});
+  }
+  if ((1 - options.gap) * gap / speed > options.t_max) return options.t_max;
   const double d0 = std::sqrt(distance_sq(x));
-  if (!(d0 > 0)) return 0;  // in contact (or not finite)
-  if (speed == 0) return options.t_max;
-  if (!(speed < HUGE_VAL)) return 0;
+  if (!(d0 > 0) || !(speed < HUGE_VAL)) return 0;  // in contact, or not finite
   const double target = options.gap * d0;
   double t = 0, step = (1 - options.gap) * d0 / speed;
   Corners y;

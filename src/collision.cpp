@@ -18,8 +18,10 @@ namespace {
 // is rebuilt: a rebuild costs about as much as a few searches.
 constexpr double kRebuildFactor = 2;
 
-// Pairs per thread below which a search is not worth spreading.
+// Free vertices below which a search is not worth spreading over threads.
 constexpr int kSmallestParallelSearch = 256;
+// Parts of each search per thread: enough for an even share of the work.
+constexpr int kPartsPerThread = 32;
 
 const double* at(const double* array, int v) { return array + 3 * static_cast<ptrdiff_t>(v); }
 Vec3 vec(const double* array, int v) {
@@ -90,7 +92,7 @@ CollisionMesh make_collision_mesh(const std::vector<Tri>& faces, int vertex_coun
       if (a != b) mesh.edges.push_back({std::min(a, b), std::max(a, b)});
     }
   }
-  std::sort(mesh.edges.begin(), mesh.edges.end());
+  sort_index_pairs(mesh.edges, vertex_count);
   mesh.edges.erase(std::unique(mesh.edges.begin(), mesh.edges.end()), mesh.edges.end());
   return mesh;
 }
@@ -106,17 +108,19 @@ CollisionBroadPhase::CollisionBroadPhase(const CollisionMesh& mesh, const double
     const Tri& face = mesh_.faces[f];
     (std::max({face[0], face[1], face[2]}) < fixed ? static_faces_ : moving_faces_).push_back(f);
   }
-  std::vector<Box> boxes;
-  for (int v = 0; v < fixed; ++v) boxes.push_back(point_box(v, positions, nullptr));
-  static_points_.build(boxes);
-  boxes.clear();
-  for (int e : static_edges_) boxes.push_back(edge_box(mesh_.edges[e], positions, nullptr));
-  static_edge_tree_.build(boxes);
-  boxes.clear();
-  for (int f : static_faces_) boxes.push_back(face_box(mesh_.faces[f], positions, nullptr));
-  static_face_tree_.build(boxes);
+  std::vector<Box> points, edges, faces;
+  for (int v = 0; v < fixed; ++v) points.push_back(point_box(v, positions, nullptr));
+  for (int e : static_edges_) edges.push_back(edge_box(mesh_.edges[e], positions, nullptr));
+  for (int f : static_faces_) faces.push_back(face_box(mesh_.faces[f], positions, nullptr));
   moving_boxes(positions, nullptr);
-  update_trees();
+  // The six builds are independent: one per thread at a time.
+  BoxTree* trees[6] = {&static_points_, &static_edge_tree_, &static_face_tree_,
+                       &moving_points_, &moving_edge_tree_, &moving_face_tree_};
+  const std::vector<Box>* boxes[6] = {&points,       &edges,       &faces,
+                                      &point_boxes_, &edge_boxes_, &face_boxes_};
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < 6; ++k) trees[k]->build(*boxes[k]);
+  for (int k = 0; k < 3; ++k) built_cost_[k] = trees[3 + k]->cost();
 }
 
 void CollisionBroadPhase::moving_boxes(const double* positions, const double* displacements) {
@@ -162,21 +166,23 @@ void CollisionBroadPhase::moving_boxes(const double* positions, const double* di
 void CollisionBroadPhase::update_trees() {
   BoxTree* trees[3] = {&moving_points_, &moving_edge_tree_, &moving_face_tree_};
   const std::vector<Box>* boxes[3] = {&point_boxes_, &edge_boxes_, &face_boxes_};
+  bool rebuild[3];
   for (int k = 0; k < 3; ++k) {
-    if (built_) {
-      trees[k]->refit(*boxes[k]);
-      if (!(trees[k]->cost() > kRebuildFactor * built_cost_[k])) continue;
-    }
+    trees[k]->refit(*boxes[k]);
+    rebuild[k] = trees[k]->cost() > kRebuildFactor * built_cost_[k];
+  }
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < 3; ++k) {
+    if (!rebuild[k]) continue;
     trees[k]->build(*boxes[k]);
     built_cost_[k] = trees[k]->cost();
   }
-  built_ = true;
 }
 
-// Five searches, spread over threads group by group: moving points against
-// the static and the moving faces, moving faces against the static points,
-// moving edges against the static and the moving edges. Each pair is found
-// once, then all are sorted.
+// Five searches, each split into parts spread over threads: moving points
+// against the static and the moving faces, moving faces against the static
+// points, moving edges against the static and the moving edges. Each pair is
+// found once, then all are sorted.
 void CollisionBroadPhase::find(const double* positions, const double* displacements,
                                double distance, CollisionCandidates& candidates) {
   moving_boxes(positions, displacements);
@@ -187,13 +193,18 @@ void CollisionBroadPhase::find(const double* positions, const double* displaceme
   for (auto& part : point_triangle_parts_) part.clear();
   for (auto& part : edge_edge_parts_) part.clear();
 
+  const int count = kPartsPerThread * threads;
+  parts_[0] = moving_points_.split_search(static_face_tree_, distance, count);
+  parts_[1] = moving_points_.split_search(moving_face_tree_, distance, count);
+  parts_[2] = moving_face_tree_.split_search(static_points_, distance, count);
+  parts_[3] = moving_edge_tree_.split_search(static_edge_tree_, distance, count);
+  parts_[4] = moving_edge_tree_.split_search(distance, count);
+  work_.clear();
+  for (int search = 0; search < 5; ++search) {
+    for (int k = 0; k < static_cast<int>(parts_[search].size()); ++k) work_.push_back({search, k});
+  }
   const int fixed = mesh_.fixed_count;
-  const int point_groups = moving_points_.group_count();
-  const int face_groups = moving_face_tree_.group_count();
-  const int edge_groups = moving_edge_tree_.group_count();
-  // Work items: [0, 2 P) points (static faces, then moving faces), then F
-  // face groups, then [0, 2 E) edge groups (static edges, then moving edges).
-  const int total = 2 * point_groups + face_groups + 2 * edge_groups;
+  const int total = static_cast<int>(work_.size());
   const bool parallel = mesh_.vertex_count - fixed >= kSmallestParallelSearch;
 #pragma omp parallel if (parallel)
   {
@@ -201,44 +212,44 @@ void CollisionBroadPhase::find(const double* positions, const double* displaceme
     std::vector<IndexPair>& ee = edge_edge_parts_[omp_get_thread_num()];
     const auto& faces = mesh_.faces;
     const auto& edges = mesh_.edges;
-#pragma omp for schedule(dynamic, 8)
+    const auto edge_pair = [&](int e, int h) {
+      if (!share_vertex(edges[e], edges[h])) ee.push_back({std::min(e, h), std::max(e, h)});
+    };
+#pragma omp for schedule(dynamic, 1)
     for (int item = 0; item < total; ++item) {
-      int g = item;
-      if (g < point_groups) {
-        moving_points_.for_each_meeting_pair(g, static_face_tree_, distance, [&](int p, int f) {
-          pt.push_back({fixed + p, static_faces_[f]});
-        });
-        continue;
+      const BoxTree::SearchPart& part = parts_[work_[item][0]][work_[item][1]];
+      switch (work_[item][0]) {
+        case 0:
+          moving_points_.for_each_meeting_pair(part, static_face_tree_, distance,
+                                               [&](int p, int f) {
+                                                 pt.push_back({fixed + p, static_faces_[f]});
+                                               });
+          break;
+        case 1:
+          moving_points_.for_each_meeting_pair(part, moving_face_tree_, distance,
+                                               [&](int p, int f) {
+                                                 const int v = fixed + p, face = moving_faces_[f];
+                                                 if (!has_vertex(faces[face], v))
+                                                   pt.push_back({v, face});
+                                               });
+          break;
+        case 2:
+          moving_face_tree_.for_each_meeting_pair(part, static_points_, distance,
+                                                  [&](int f, int v) {
+                                                    const int face = moving_faces_[f];
+                                                    if (!has_vertex(faces[face], v))
+                                                      pt.push_back({v, face});
+                                                  });
+          break;
+        case 3:
+          moving_edge_tree_.for_each_meeting_pair(
+              part, static_edge_tree_, distance,
+              [&](int a, int b) { edge_pair(moving_edges_[a], static_edges_[b]); });
+          break;
+        default:
+          moving_edge_tree_.for_each_meeting_pair(
+              part, distance, [&](int a, int b) { edge_pair(moving_edges_[a], moving_edges_[b]); });
       }
-      g -= point_groups;
-      if (g < point_groups) {
-        moving_points_.for_each_meeting_pair(g, moving_face_tree_, distance, [&](int p, int f) {
-          const int v = fixed + p, face = moving_faces_[f];
-          if (!has_vertex(faces[face], v)) pt.push_back({v, face});
-        });
-        continue;
-      }
-      g -= point_groups;
-      if (g < face_groups) {
-        moving_face_tree_.for_each_meeting_pair(g, static_points_, distance, [&](int f, int v) {
-          const int face = moving_faces_[f];
-          if (!has_vertex(faces[face], v)) pt.push_back({v, face});
-        });
-        continue;
-      }
-      g -= face_groups;
-      if (g < edge_groups) {
-        moving_edge_tree_.for_each_meeting_pair(g, static_edge_tree_, distance, [&](int a, int b) {
-          const int e = moving_edges_[a], h = static_edges_[b];
-          if (!share_vertex(edges[e], edges[h])) ee.push_back({std::min(e, h), std::max(e, h)});
-        });
-        continue;
-      }
-      g -= edge_groups;
-      moving_edge_tree_.for_each_meeting_pair(g, distance, [&](int a, int b) {
-        const int e = moving_edges_[a], h = moving_edges_[b];
-        if (!share_vertex(edges[e], edges[h])) ee.push_back({std::min(e, h), std::max(e, h)});
-      });
     }
   }
   sort_index_pairs(point_triangle_parts_, mesh_.vertex_count, candidates.point_triangle,
@@ -247,39 +258,111 @@ void CollisionBroadPhase::find(const double* positions, const double* displaceme
                    sort_scratch_);
 }
 
+namespace {
+
+// Candidate pairs per block of the barrier sum: blocks of a fixed size, summed
+// in order, make the sum independent of the thread count.
+constexpr long kBarrierBlock = 4096;
+
+// The corners of the k-th candidate pair (point-triangle pairs first) and
+// their squared distance, with its gradient when `gradient` is non-null.
+double pair_distance(const CollisionMesh& mesh, const double* x,
+                     const CollisionCandidates& candidates, long k, int (&v)[4],
+                     std::array<Vec3, 4>* gradient) {
+  const long pt_count = static_cast<long>(candidates.point_triangle.size());
+  if (k < pt_count) {
+    const IndexPair& pair = candidates.point_triangle[k];
+    const Tri& f = mesh.faces[pair[1]];
+    v[0] = pair[0];
+    v[1] = f[0];
+    v[2] = f[1];
+    v[3] = f[2];
+    return point_triangle_distance_squared(vec(x, v[0]), vec(x, v[1]), vec(x, v[2]), vec(x, v[3]),
+                                           gradient);
+  }
+  const IndexPair& pair = candidates.edge_edge[k - pt_count];
+  const auto &e = mesh.edges[pair[0]], &h = mesh.edges[pair[1]];
+  v[0] = e[0];
+  v[1] = e[1];
+  v[2] = h[0];
+  v[3] = h[1];
+  return edge_edge_distance_squared(vec(x, v[0]), vec(x, v[1]), vec(x, v[2]), vec(x, v[3]),
+                                    gradient);
+}
+
+// A pair within dhat: its corners and its barrier gradient.
+struct ActivePair {
+  int vertex[4];
+  std::array<Vec3, 4> gradient;
+};
+
+}  // namespace
+
+// Blocks in parallel, each with its partial sum and its pairs within dhat;
+// then the partial sums and the gradients added in block order.
 double barrier_potential(const CollisionMesh& mesh, const double* positions,
                          const CollisionCandidates& candidates, double dhat, double weight,
                          double* gradient) {
   const double dhat_sq = dhat * dhat;
-  double sum = 0;
-  std::array<Vec3, 4> g;
-  std::array<Vec3, 4>* want = gradient ? &g : nullptr;
-  const auto accumulate = [&](double d2, const int(&v)[4]) {
-    if (!(d2 < dhat_sq)) return;
-    double derivative;
-    sum += barrier_of_squared(d2, dhat, &derivative);
-    if (!gradient) return;
-    const double f = weight * derivative;
-    for (int k = 0; k < 4; ++k) {
-      double* out = gradient + 3 * static_cast<ptrdiff_t>(v[k]);
-      for (int c = 0; c < 3; ++c) out[c] += f * g[k][c];
+  const long total = static_cast<long>(candidates.size());
+  const long blocks = (total + kBarrierBlock - 1) / kBarrierBlock;
+  std::vector<double> partial(blocks, 0.0);
+  std::vector<std::vector<ActivePair>> active(gradient ? blocks : 0);
+#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1)
+  for (long b = 0; b < blocks; ++b) {
+    double sum = 0;
+    std::array<Vec3, 4> g;
+    int v[4];
+    for (long k = b * kBarrierBlock; k < std::min(total, (b + 1) * kBarrierBlock); ++k) {
+      const double d2 = pair_distance(mesh, positions, candidates, k, v, gradient ? &g : nullptr);
+      if (!(d2 < dhat_sq)) continue;
+      double derivative;
+      sum += barrier_of_squared(d2, dhat, &derivative);
+      if (!gradient) continue;
+      ActivePair pair;
+      for (int i = 0; i < 4; ++i) {
+        pair.vertex[i] = v[i];
+        for (int c = 0; c < 3; ++c) pair.gradient[i][c] = weight * derivative * g[i][c];
+      }
+      active[b].push_back(pair);
     }
-  };
-  for (const IndexPair& pair : candidates.point_triangle) {
-    const Tri& f = mesh.faces[pair[1]];
-    const int v[4] = {pair[0], f[0], f[1], f[2]};
-    accumulate(point_triangle_distance_squared(vec(positions, v[0]), vec(positions, v[1]),
-                                               vec(positions, v[2]), vec(positions, v[3]), want),
-               v);
+    partial[b] = sum;
   }
-  for (const IndexPair& pair : candidates.edge_edge) {
-    const auto &e = mesh.edges[pair[0]], &h = mesh.edges[pair[1]];
-    const int v[4] = {e[0], e[1], h[0], h[1]};
-    accumulate(edge_edge_distance_squared(vec(positions, v[0]), vec(positions, v[1]),
-                                          vec(positions, v[2]), vec(positions, v[3]), want),
-               v);
+  double sum = 0;
+  for (long b = 0; b < blocks; ++b) {
+    sum += partial[b];
+    if (!gradient) continue;
+    for (const ActivePair& pair : active[b]) {
+      for (int i = 0; i < 4; ++i) {
+        double* out = gradient + 3 * static_cast<ptrdiff_t>(pair.vertex[i]);
+        for (int c = 0; c < 3; ++c) out[c] += pair.gradient[i][c];
+      }
+    }
   }
   return sum;
+}
+
+void keep_candidates_within(const CollisionMesh& mesh, const double* positions, double distance,
+                            CollisionCandidates& candidates) {
+  const long total = static_cast<long>(candidates.size());
+  const long pt_count = static_cast<long>(candidates.point_triangle.size());
+  const double distance_sq = distance * distance;
+  std::vector<char> keep(total);
+#pragma omp parallel for schedule(static) if (total > 4096)
+  for (long k = 0; k < total; ++k) {
+    int v[4];
+    keep[k] = pair_distance(mesh, positions, candidates, k, v, nullptr) < distance_sq;
+  }
+  long kept = 0;
+  for (long k = 0; k < pt_count; ++k) {
+    if (keep[k]) candidates.point_triangle[kept++] = candidates.point_triangle[k];
+  }
+  candidates.point_triangle.resize(kept);
+  kept = 0;
+  for (long k = pt_count; k < total; ++k) {
+    if (keep[k]) candidates.edge_edge[kept++] = candidates.edge_edge[k - pt_count];
+  }
+  candidates.edge_edge.resize(kept);
 }
 
 }  // namespace foldfill

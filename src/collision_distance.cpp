@@ -96,19 +96,26 @@ double point_triangle_distance_squared(const Vec3& p, const Vec3& a, const Vec3&
 }
 
 // The closest points are a0 + s (a1 - a0) and b0 + t (b1 - b0) with (s, t)
-// minimising a convex quadratic over the unit square: where the lines are
+// minimising a convex quadratic F over the unit square: where the lines are
 // closest when that is inside the square, else on the square's boundary,
-// i.e. an end of one segment against the other segment.
+// i.e. an end of one segment against the other segment. Which ends: F
+// decreases from any point of the square towards the lines' closest pair
+// (s*, t*), so the square's minimum is on a side whose bound (s*, t*)
+// breaks (s* < 0: the side s = 0); one or two sides. Parallel or degenerate
+// segments try all four.
 double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
                                   std::array<Vec3, 4>* gradient) {
   const Vec3 u = sub(a1, a0), v = sub(b1, b0), w = sub(a0, b0);
   const Vec3 n = cross(u, v);
   const double nn = dot(n, n);
+  // Sides to try: bit 0 for s = 0 (end a0), 1 for s = 1, 2 for t = 0, 3 for t = 1.
+  int sides = 15;
   if (nn > kDegenerate * dot(u, u) * dot(v, v)) {
     // w + s u - t v is parallel to n: cross with v (resp. u) and dot with n.
     const double inverse = 1 / nn;
     const double s = dot(n, cross(v, w)) * inverse, t = dot(n, cross(u, w)) * inverse;
-    if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
+    sides = (s < 0 ? 1 : 0) | (s > 1 ? 2 : 0) | (t < 0 ? 4 : 0) | (t > 1 ? 8 : 0);
+    if (sides == 0) {
       const double height = dot(n, w);
       if (gradient) {
         const Vec3 d = scaled(n, 2 * height * inverse);  // 2 (qa - qb)
@@ -120,7 +127,7 @@ double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0
       return height * height * inverse;
     }
   }
-  // The four ends against the other segment; `difference` is qa - qb.
+  // Ends against the other segment; `difference` is qa - qb.
   double best = std::numeric_limits<double>::infinity(), best_s = 0, best_t = 0;
   Vec3 best_difference{0, 0, 0};
   const auto consider = [&](double d2, double s, double t, const Vec3& difference) {
@@ -133,14 +140,22 @@ double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0
   };
   double parameter;
   Vec3 difference;
-  double d2 = point_segment(a0, b0, b1, parameter, difference);
-  consider(d2, 0, parameter, difference);
-  d2 = point_segment(a1, b0, b1, parameter, difference);
-  consider(d2, 1, parameter, difference);
-  d2 = point_segment(b0, a0, a1, parameter, difference);
-  consider(d2, parameter, 0, scaled(difference, -1));
-  d2 = point_segment(b1, a0, a1, parameter, difference);
-  consider(d2, parameter, 1, scaled(difference, -1));
+  if (sides & 1) {
+    const double d2 = point_segment(a0, b0, b1, parameter, difference);
+    consider(d2, 0, parameter, difference);
+  }
+  if (sides & 2) {
+    const double d2 = point_segment(a1, b0, b1, parameter, difference);
+    consider(d2, 1, parameter, difference);
+  }
+  if (sides & 4) {
+    const double d2 = point_segment(b0, a0, a1, parameter, difference);
+    consider(d2, parameter, 0, scaled(difference, -1));
+  }
+  if (sides & 8) {
+    const double d2 = point_segment(b1, a0, a1, parameter, difference);
+    consider(d2, parameter, 1, scaled(difference, -1));
+  }
   if (gradient) {
     const Vec3 d = scaled(best_difference, 2);
     (*gradient)[0] = scaled(d, 1 - best_s);

@@ -18,6 +18,7 @@
 
 #include "foldfill/box_tree.h"
 #include "foldfill/collision.h"
+#include "foldfill/error.h"
 
 namespace foldfill {
 namespace {
@@ -773,6 +774,49 @@ TEST(BoxTree, EqualsBruteForce) {
   }
 }
 
+// Every way of splitting a search finds the same pairs, each once.
+TEST(BoxTree, SplitSearchesFindEveryPairOnce) {
+  Random random(17);
+  const std::vector<Box> a = random_boxes(random, 700, 2), b = random_boxes(random, 400, 3);
+  const BoxTree ta(a), tb(b);
+  const double margin = 0.1;
+  const auto expected_cross = brute_pairs(a, b, margin, false);
+  const auto expected_self = brute_pairs(a, a, margin, true);
+  std::vector<IndexPair> serial;
+  ta.for_each_meeting_pair(tb, margin, [&](int i, int j) { serial.push_back({i, j}); });
+  sort_index_pairs(serial, 700);
+  EXPECT_EQ(serial, expected_cross);
+  serial.clear();
+  ta.for_each_meeting_pair(margin, [&](int i, int j) {
+    serial.push_back({std::min(i, j), std::max(i, j)});
+  });
+  sort_index_pairs(serial, 700);
+  EXPECT_EQ(serial, expected_self);
+  for (const int count : {1, 2, 3, 17, 200, 100000}) {
+    std::vector<IndexPair> cross, self;
+    for (const auto& part : ta.split_search(tb, margin, count)) {
+      ta.for_each_meeting_pair(part, tb, margin, [&](int i, int j) { cross.push_back({i, j}); });
+    }
+    const auto parts = ta.split_search(margin, count);
+    EXPECT_GE(static_cast<int>(parts.size()), std::min(count, 100));
+    for (const auto& part : parts) {
+      ta.for_each_meeting_pair(part, margin, [&](int i, int j) {
+        self.push_back({std::min(i, j), std::max(i, j)});
+      });
+    }
+    sort_index_pairs(cross, 700);
+    sort_index_pairs(self, 700);
+    EXPECT_EQ(cross, expected_cross) << count;
+    EXPECT_EQ(self, expected_self) << count;
+  }
+  // Empty trees.
+  const BoxTree empty;
+  EXPECT_TRUE(meeting_pairs(empty, tb, margin).empty());
+  EXPECT_TRUE(meeting_pairs(ta, empty, margin).empty());
+  EXPECT_TRUE(meeting_pairs(empty, margin).empty());
+  EXPECT_TRUE(empty.split_search(margin, 10).empty());
+}
+
 TEST(BoxTree, SortIndexPairs) {
   Random random(14);
   std::vector<IndexPair> pairs;
@@ -944,6 +988,31 @@ Layers two_layers(int n, double gap, double fall) {
   return layers;
 }
 
+TEST(CollisionMesh, EdgesAndValidation) {
+  const CollisionMesh mesh = make_collision_mesh({{0, 1, 2}, {2, 1, 3}}, 5, 2);
+  const std::vector<std::array<int, 2>> edges = {{0, 1}, {0, 2}, {1, 2}, {1, 3}, {2, 3}};
+  EXPECT_EQ(mesh.edges, edges);
+  EXPECT_EQ(mesh.vertex_count, 5);
+  EXPECT_EQ(mesh.fixed_count, 2);
+  EXPECT_THROW(make_collision_mesh({{0, 1, 5}}, 5, 0), Error);
+  EXPECT_THROW(make_collision_mesh({{0, 1, -1}}, 5, 0), Error);
+  EXPECT_THROW(make_collision_mesh({{0, 1, 2}}, 5, 6), Error);
+  // Nothing moves: no candidates at all.
+  const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 0.1}};
+  CollisionBroadPhase still(make_collision_mesh({{0, 1, 2}, {2, 1, 3}}, 5, 5), flat(x));
+  CollisionCandidates found;
+  still.find(flat(x), nullptr, 10, found);
+  EXPECT_EQ(found.size(), 0u);
+  // One free vertex over two fixed faces (whose boxes are the unit square):
+  // both faces within 0.2, neither within 0.05.
+  CollisionBroadPhase one(make_collision_mesh({{0, 1, 2}, {2, 1, 3}}, 5, 4), flat(x));
+  one.find(flat(x), nullptr, 0.2, found);
+  EXPECT_EQ(found.point_triangle, (std::vector<IndexPair>{{4, 0}, {4, 1}}));
+  EXPECT_TRUE(found.edge_edge.empty());
+  one.find(flat(x), nullptr, 0.05, found);
+  EXPECT_EQ(found.size(), 0u);
+}
+
 TEST(CollisionBroadPhase, DeterministicAcrossThreadsAndCalls) {
   Layers layers = two_layers(24, 0.4, 1.5);
   const int threads = omp_get_max_threads();
@@ -1035,6 +1104,38 @@ TEST(CollisionStepBound, StopsBeforeContactAndIsDeterministic) {
   EXPECT_EQ(collision_step_bound(layers.mesh, flat(layers.positions), flat(layers.step), {}), 1);
 }
 
+TEST(KeepCandidatesWithin, KeepsExactlyTheClosePairs) {
+  Layers layers = two_layers(12, 0.25, 0);
+  Random random(18);
+  for (int v = layers.mesh.fixed_count; v < layers.mesh.vertex_count; ++v)
+    layers.positions[v] = add(layers.positions[v], mul(random.point(), 0.1));
+  const double distance = 0.3;
+  CollisionBroadPhase broad(layers.mesh, flat(layers.positions));
+  CollisionCandidates candidates;
+  broad.find(flat(layers.positions), nullptr, distance, candidates);
+  const CollisionCandidates all = candidates;
+  keep_candidates_within(layers.mesh, flat(layers.positions), distance, candidates);
+  EXPECT_LT(candidates.size(), all.size());
+  EXPECT_GT(candidates.size(), 0u);
+  const auto& x = layers.positions;
+  std::vector<IndexPair> pt, ee;
+  for (const IndexPair& p : all.point_triangle) {
+    const Tri& f = layers.mesh.faces[p[1]];
+    if (point_triangle_distance_squared(x[p[0]], x[f[0]], x[f[1]], x[f[2]]) < distance * distance)
+      pt.push_back(p);
+  }
+  for (const IndexPair& p : all.edge_edge) {
+    const auto &a = layers.mesh.edges[p[0]], &b = layers.mesh.edges[p[1]];
+    if (edge_edge_distance_squared(x[a[0]], x[a[1]], x[b[0]], x[b[1]]) < distance * distance)
+      ee.push_back(p);
+  }
+  EXPECT_EQ(candidates.point_triangle, pt);
+  EXPECT_EQ(candidates.edge_edge, ee);
+  // The barrier needs no more than these.
+  const double kept = barrier_potential(layers.mesh, flat(x), candidates, distance);
+  EXPECT_NEAR(kept, barrier_potential(layers.mesh, flat(x), all, distance), 1e-14 * kept);
+}
+
 TEST(BarrierPotential, GradientAndCompleteness) {
   Layers layers = two_layers(8, 0.25, 0);
   // Crumple the free sheet a little so that every kind of pair is active.
@@ -1055,6 +1156,20 @@ TEST(BarrierPotential, GradientAndCompleteness) {
       brute_candidates(layers.mesh, layers.positions, nullptr, HUGE_VAL);
   EXPECT_NEAR(barrier_potential(layers.mesh, flat(layers.positions), all, dhat), value,
               1e-12 * value);
+  // The same bit for bit on any number of threads.
+  {
+    const int threads = omp_get_max_threads();
+    std::vector<double> g1(3 * n, 0.0), g4(3 * n, 0.0);
+    omp_set_num_threads(1);
+    const double v1 =
+        barrier_potential(layers.mesh, flat(layers.positions), all, dhat, 2, g1.data());
+    omp_set_num_threads(std::max(4, threads));
+    const double v4 =
+        barrier_potential(layers.mesh, flat(layers.positions), all, dhat, 2, g4.data());
+    omp_set_num_threads(threads);
+    EXPECT_EQ(v1, v4);
+    EXPECT_EQ(g1, g4);
+  }
   // Gradient (weight 2) against central differences, free vertices only.
   double largest = 0;
   for (double g : gradient) largest = std::max(largest, std::abs(g));

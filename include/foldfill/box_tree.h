@@ -38,16 +38,17 @@ inline bool boxes_meet(const Box& a, const Box& b, double margin) {
 using IndexPair = std::array<int, 2>;
 
 // A binary tree of boxes, split at the median of the longest axis of the
-// box centres, with up to kLeafSize boxes per leaf (a "group" below). Built
-// once for a set of boxes, it can be refitted to new boxes of the same
-// primitives in linear time: pairs found stay exact, only the search slows
-// down when the primitives move far from where they were at the build
-// (cost() tells how much). The build depends only on the boxes (ties broken
-// by index), never on the thread count.
+// box centres, with up to kLeafSize boxes per leaf. Built once for a set of
+// boxes, it can be refitted to new boxes of the same primitives in linear
+// time: pairs found stay exact, only the search slows down when the
+// primitives move far from where they were at the build (cost() tells how
+// much). The build depends only on the boxes (ties broken by index), never
+// on the thread count.
 //
-// Searches call visit(i, j) with box indices, in an order that is fixed for a
-// given tree but not sorted: callers that need an order sort what they keep
-// (sort_index_pairs).
+// Pair searches descend two trees (or one tree and itself) together, so that
+// a pair of far-apart subtrees is dismissed at once. They call visit(i, j)
+// with box indices, in an order that is fixed for given trees but not
+// sorted: callers that need an order sort what they keep (sort_index_pairs).
 class BoxTree {
  public:
   static constexpr int kLeafSize = 4;
@@ -70,19 +71,28 @@ class BoxTree {
   template <typename Visit>
   void for_each_meeting(const Box& query, double margin, Visit&& visit) const;
 
-  // The boxes are grouped by leaf: groups [0, group_count()) partition them.
-  // Searching group by group spreads a pair search over threads.
-  int group_count() const { return static_cast<int>(leaves_.size()); }
-
-  // Calls visit(i, j) for every box i of `group` and box j of `other` that
+  // Calls visit(i, j) for every box i of this tree and box j of `other` that
   // meet within `margin`.
   template <typename Visit>
-  void for_each_meeting_pair(int group, const BoxTree& other, double margin, Visit&& visit) const;
+  void for_each_meeting_pair(const BoxTree& other, double margin, Visit&& visit) const;
   // Calls visit(i, j) for every pair of this tree's own boxes that meet
-  // within `margin` and of which i is in `group`, each pair once over all
-  // groups (i != j, in no particular order).
+  // within `margin`, each pair once (i != j, either way round).
   template <typename Visit>
-  void for_each_meeting_pair(int group, double margin, Visit&& visit) const;
+  void for_each_meeting_pair(double margin, Visit&& visit) const;
+
+  // The same searches split into independent parts for threads: the parts
+  // of split_search (about `count` of them, fewer for small trees) visit
+  // every pair of the whole search once between them.
+  struct SearchPart {
+    int a = 0, b = 0;  // node indices; a == b: the pairs within one subtree
+  };
+  std::vector<SearchPart> split_search(const BoxTree& other, double margin, int count) const;
+  std::vector<SearchPart> split_search(double margin, int count) const;
+  template <typename Visit>
+  void for_each_meeting_pair(const SearchPart& part, const BoxTree& other, double margin,
+                             Visit&& visit) const;
+  template <typename Visit>
+  void for_each_meeting_pair(const SearchPart& part, double margin, Visit&& visit) const;
 
  private:
   // Nodes in depth-first order: an internal node's left child follows it.
@@ -90,19 +100,21 @@ class BoxTree {
     Box box;
     int first = 0;  // internal: right child; leaf: first box position
     int count = 0;  // boxes of a leaf, 0 for an internal node
-    int end = 0;    // one past the last node of its subtree
   };
-  int build_node(int begin, int end, const std::vector<Vec3>& centre);
+  struct Item;
+  void build_node(std::vector<Item>& items, int begin, int end);
   void refit_nodes();
-  // Calls visit(k) for the position k of every box that meets `query` within
-  // `margin` in the nodes of index >= `from`.
+  // Whether the pair search of nodes i (here) and j (of `other`) goes on in
+  // i's children rather than j's.
+  bool descend_first(const BoxTree& other, int i, int j) const;
   template <typename Visit>
-  void search(const Box& query, double margin, int from, Visit&& visit) const;
+  void cross(const BoxTree& other, int i, int j, double margin, Visit& visit) const;
+  template <typename Visit>
+  void within(int i, double margin, Visit& visit) const;
 
   std::vector<Node> nodes_;
-  std::vector<int> leaves_;  // node index of each group
-  std::vector<int> ids_;     // box indices by position (grouped by leaf)
-  std::vector<Box> boxes_;   // boxes by position, empty ones made canonical
+  std::vector<int> ids_;    // box indices by position (grouped by leaf)
+  std::vector<Box> boxes_;  // boxes by position, empty ones made canonical
 };
 
 // Sorts pairs by (first, second), given every first index is in [0,
@@ -125,21 +137,20 @@ std::vector<IndexPair> meeting_pairs(const BoxTree& tree, double margin);
 // Implementation of the templates.
 
 template <typename Visit>
-void BoxTree::search(const Box& query, double margin, int from, Visit&& visit) const {
-  if (nodes_.empty()) return;
+void BoxTree::for_each_meeting(const Box& query, double margin, Visit&& visit) const {
+  if (nodes_.empty() || is_empty(query)) return;
   int stack[64];  // depth-first: at most one pending right child per level
   int top = 0, node = 0;
   while (true) {
     const Node& n = nodes_[node];
-    // A subtree ending before `from` holds no node of index >= from.
-    if (n.end > from && boxes_meet(n.box, query, margin)) {
+    if (boxes_meet(n.box, query, margin)) {
       if (n.count == 0) {
         stack[top++] = n.first;
         ++node;
         continue;
       }
       for (int k = n.first; k < n.first + n.count; ++k) {
-        if (boxes_meet(boxes_[k], query, margin)) visit(k);
+        if (boxes_meet(boxes_[k], query, margin)) visit(ids_[k]);
       }
     }
     if (top == 0) return;
@@ -147,41 +158,77 @@ void BoxTree::search(const Box& query, double margin, int from, Visit&& visit) c
   }
 }
 
-template <typename Visit>
-void BoxTree::for_each_meeting(const Box& query, double margin, Visit&& visit) const {
-  if (is_empty(query)) return;
-  search(query, margin, 0, [&](int k) { visit(ids_[k]); });
+inline bool BoxTree::descend_first(const BoxTree& other, int i, int j) const {
+  const Node &a = nodes_[i], &b = other.nodes_[j];
+  if (a.count > 0 || b.count > 0) return b.count > 0;
+  const auto size = [](const Box& box) {
+    return box.high[0] - box.low[0] + box.high[1] - box.low[1] + box.high[2] - box.low[2];
+  };
+  return size(a.box) >= size(b.box);
 }
 
-// One search for a whole leaf, then its few boxes against each box found: the
-// boxes of a leaf are close to each other, so that their search is nearly
-// the same.
+// Two leaves: each box of i against j's box first, then against j's boxes.
+// Otherwise the larger node (or the internal one) is split.
 template <typename Visit>
-void BoxTree::for_each_meeting_pair(int group, const BoxTree& other, double margin,
+void BoxTree::cross(const BoxTree& other, int i, int j, double margin, Visit& visit) const {
+  const Node &a = nodes_[i], &b = other.nodes_[j];
+  if (!boxes_meet(a.box, b.box, margin)) return;
+  if (a.count > 0 && b.count > 0) {
+    for (int k = a.first; k < a.first + a.count; ++k) {
+      const Box& box = boxes_[k];
+      if (!boxes_meet(box, b.box, margin)) continue;
+      for (int m = b.first; m < b.first + b.count; ++m) {
+        if (boxes_meet(box, other.boxes_[m], margin)) visit(ids_[k], other.ids_[m]);
+      }
+    }
+  } else if (descend_first(other, i, j)) {
+    cross(other, i + 1, j, margin, visit);
+    cross(other, a.first, j, margin, visit);
+  } else {
+    cross(other, i, j + 1, margin, visit);
+    cross(other, i, b.first, margin, visit);
+  }
+}
+
+template <typename Visit>
+void BoxTree::within(int i, double margin, Visit& visit) const {
+  const Node& n = nodes_[i];
+  if (n.count > 0) {
+    for (int k = n.first; k < n.first + n.count; ++k) {
+      for (int m = k + 1; m < n.first + n.count; ++m) {
+        if (boxes_meet(boxes_[k], boxes_[m], margin)) visit(ids_[k], ids_[m]);
+      }
+    }
+    return;
+  }
+  within(i + 1, margin, visit);
+  within(n.first, margin, visit);
+  cross(*this, i + 1, n.first, margin, visit);
+}
+
+template <typename Visit>
+void BoxTree::for_each_meeting_pair(const BoxTree& other, double margin, Visit&& visit) const {
+  if (!nodes_.empty() && !other.nodes_.empty()) cross(other, 0, 0, margin, visit);
+}
+
+template <typename Visit>
+void BoxTree::for_each_meeting_pair(double margin, Visit&& visit) const {
+  if (!nodes_.empty()) within(0, margin, visit);
+}
+
+template <typename Visit>
+void BoxTree::for_each_meeting_pair(const SearchPart& part, const BoxTree& other, double margin,
                                     Visit&& visit) const {
-  const Node& leaf = nodes_[leaves_[group]];
-  const int begin = leaf.first, end = leaf.first + leaf.count;
-  other.search(leaf.box, margin, 0, [&](int m) {
-    const Box& b = other.boxes_[m];
-    for (int k = begin; k < end; ++k) {
-      if (boxes_meet(boxes_[k], b, margin)) visit(ids_[k], other.ids_[m]);
-    }
-  });
+  cross(other, part.a, part.b, margin, visit);
 }
 
-// Box positions grow with the node index of their leaf, so that a pair of
-// positions k < m is searched from the leaf of k only: from that leaf on.
 template <typename Visit>
-void BoxTree::for_each_meeting_pair(int group, double margin, Visit&& visit) const {
-  const int node = leaves_[group];
-  const Node& leaf = nodes_[node];
-  const int begin = leaf.first, end = leaf.first + leaf.count;
-  search(leaf.box, margin, node, [&](int m) {
-    const Box& b = boxes_[m];
-    for (int k = begin; k < end && k < m; ++k) {
-      if (boxes_meet(boxes_[k], b, margin)) visit(ids_[k], ids_[m]);
-    }
-  });
+void BoxTree::for_each_meeting_pair(const SearchPart& part, double margin, Visit&& visit) const {
+  if (part.a == part.b) {
+    within(part.a, margin, visit);
+  } else {
+    cross(*this, part.a, part.b, margin, visit);
+  }
 }
 
 }  // namespace foldfill

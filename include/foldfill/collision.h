@@ -25,10 +25,10 @@ namespace foldfill {
 // Distances. Gradients by the envelope theorem: the gradient of d^2 with
 // respect to a vertex is 2 (q_self - q_other) times that vertex's weight in
 // the closest point q_self of its primitive, where (q_self, q_other) is the
-// closest pair of points. They are exact where the closest pair is unique and
-// moves smoothly (everywhere for a point and a triangle in general position);
-// elsewhere (parallel edges, a point equidistant from two edges) they are
-// the gradient of one of the closest pairs, a subgradient.
+// closest pair of points. They are the derivatives where the closest pair is
+// unique (everywhere for a point and a proper triangle); elsewhere (parallel
+// edges, a point equidistant from two edges) they are those of one of the
+// closest pairs, a one-sided derivative.
 
 // Squared distance from `p` to the triangle (a, b, c), exact for every region
 // (the face, its three edges, its three corners) and for degenerate
@@ -156,8 +156,9 @@ class CollisionBroadPhase {
   BoxTree moving_points_, moving_edge_tree_, moving_face_tree_;
   // Costs of the moving trees when last built (see BoxTree::cost).
   double built_cost_[3] = {0, 0, 0};
-  bool built_ = false;
-  std::vector<Box> point_boxes_, edge_boxes_, face_boxes_;                      // moving primitives
+  std::vector<Box> point_boxes_, edge_boxes_, face_boxes_;  // moving primitives
+  std::vector<BoxTree::SearchPart> parts_[5];               // of the five searches (see find)
+  std::vector<std::array<int, 2>> work_;                    // (search, part)
   std::vector<std::vector<IndexPair>> point_triangle_parts_, edge_edge_parts_;  // per thread
   std::vector<int> sort_scratch_;
 };
@@ -165,20 +166,42 @@ class CollisionBroadPhase {
 // The largest step fraction t in [0, t_max] such that no candidate pair comes
 // into contact on [0, t] along positions + t displacements (both 3 per vertex
 // of `mesh`): the minimum of the pairs' Additive CCD times of impact (see
-// point_triangle_ccd). The candidates must cover the step (found with the
-// displacements, or with a distance at least the step's largest relative
-// displacement). t_max for no pair. In parallel; the result does not depend
-// on the thread count.
+// point_triangle_ccd). The candidates must cover the step: found with the
+// displacements (swept boxes), or within a distance above twice the largest
+// displacement (a pair's distance falls at most by the moves of its two
+// primitives). t_max for no pair. In parallel; the result does not depend on
+// the thread count.
 double collision_step_bound(const CollisionMesh& mesh, const double* positions,
                             const double* displacements, const CollisionCandidates& candidates,
                             const CcdOptions& options = {});
 
 // Sum over the candidate pairs of barrier(distance, dhat); adds `weight` times
-// its gradient (3 per vertex) to `gradient` when non-null. Summed in the
-// candidates' order: the same bit for bit for the same candidates. A pair at
-// distance 0 makes it +infinity (the gradient is then not meaningful).
+// its gradient (3 per vertex) to `gradient` when non-null. In parallel over
+// blocks of a fixed number of pairs, summed in the candidates' order block by
+// block: the same bit for bit for the same candidates, whatever the thread
+// count. A pair at distance 0 makes it +infinity (the gradient is then not
+// meaningful).
 double barrier_potential(const CollisionMesh& mesh, const double* positions,
                          const CollisionCandidates& candidates, double dhat, double weight = 1,
                          double* gradient = nullptr);
+
+// Removes the candidate pairs at `distance` or more at `positions` (order
+// kept). Boxes let through many pairs of neighbouring primitives that are
+// far from each other (a vertex and the faces two rings away).
+void keep_candidates_within(const CollisionMesh& mesh, const double* positions, double distance,
+                            CollisionCandidates& candidates);
+
+// Use in a minimisation that must stay intersection-free (from a start where
+// every pair is at a positive distance), with a thickness dhat and a skin:
+// - the barrier's pairs: find(x0, nullptr, dhat + skin) then
+//   keep_candidates_within(x0, dhat + skin). While every vertex stays within
+//   skin / 2 of x0, every pair closer than dhat is in the list (a pair at
+//   dhat + skin or more at x0 stays at dhat or more), so barrier_potential
+//   over it is the barrier over all pairs; search again past that.
+// - each step x + a dx: t = collision_step_bound over find(x, dx, 0) (swept
+//   boxes), then a line search over a in (0, t] only. When x + t dx also
+//   stays within skin / 2 of x0, the barrier's list covers the step as well
+//   (its pairs are the only ones that can come closer than dhat) and can
+//   replace the swept search.
 
 }  // namespace foldfill
