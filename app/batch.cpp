@@ -307,27 +307,35 @@ std::string single_output_path(const std::string& input, const FillArgs& args) {
 void check_single_paths(const std::string& input, const std::string& output, const FillArgs& args) {
   PathPlan plan;
   plan.reads(input, "the input file");
-  plan.reads(args.obstacles, "the obstacles file");
+  plan_obstacle_reads(args, plan);
   plan.writes_file(output, "the output");
   plan.writes_file(args.report, "the report");
   plan.writes_flat_folder(args.flat_dir, "the --flat-dir folder");
   plan.check();
 }
 
-int run_batch(const FillArgs& args) {
+int run_batch(FillArgs args) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<BatchItem> items = plan_batch(args);
-  PathPlan plan;
-  for (const BatchItem& item : items) plan.reads(item.input, "the input file");
-  plan.reads(args.obstacles, "the obstacles file");
-  plan.writes_folder(args.output, "the output folder");
-  for (const BatchItem& item : items) plan.writes_file(item.output, "the output of " + item.input);
-  plan.writes_file(args.report, "the report");
-  plan.writes_folder(args.flat_dir, "the --flat-dir folder");
-  for (const BatchItem& item : items) {
-    plan.writes_flat_folder(item.flat_dir, "the --flat-dir folder of " + item.input);
-  }
-  plan.check();
+  const auto check_paths = [&] {
+    PathPlan plan;
+    for (const BatchItem& item : items) plan.reads(item.input, "the input file");
+    plan_obstacle_reads(args, plan);
+    plan.writes_folder(args.output, "the output folder");
+    for (const BatchItem& item : items)
+      plan.writes_file(item.output, "the output of " + item.input);
+    plan.writes_file(args.report, "the report");
+    plan.writes_folder(args.flat_dir, "the --flat-dir folder");
+    for (const BatchItem& item : items) {
+      plan.writes_flat_folder(item.flat_dir, "the --flat-dir folder of " + item.input);
+    }
+    plan.check();
+  };
+  // Once with the obstacle files named on the command line, then with the
+  // mesh files that the obstacles file names as well.
+  check_paths();
+  load_obstacles(args);
+  check_paths();
   std::error_code ec;
   fs::create_directories(args.output, ec);
   if (ec) {

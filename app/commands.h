@@ -14,6 +14,8 @@
 
 namespace foldfill::cli {
 
+class PathPlan;  // paths.h
+
 // Exit code of a batch in which some files failed (the library's own codes,
 // ErrorKind, stop at 10).
 constexpr int kBatchFailedExitCode = 11;
@@ -39,6 +41,7 @@ struct FillArgs {
   std::vector<std::string> inputs;  // mesh files and folders
   std::string output;               // a mesh file, or the output folder of a batch
   std::string report, obstacles, flat_dir;
+  std::vector<std::string> obstacle_meshes;  // --obstacle-mesh, in order
   std::string format;  // "obj", "ply", "off" or "stl": extension of outputs named after inputs
   int jobs = 1;        // files filled at the same time in a batch
   SelectionArgs selection;
@@ -52,7 +55,18 @@ struct FillArgs {
   int coarse_start = FillOptions{}.multilevel.min_patch_vertices;  // 0: never
   double time_limit = 0;
   bool quiet = false, ascii = false;
+  // The obstacles of --obstacles and --obstacle-mesh, read once (load_obstacles).
+  std::vector<Obstacle> loaded_obstacles;
 };
+
+// Reads the obstacles of --obstacles, then those of --obstacle-mesh, into
+// args.loaded_obstacles. Throws the errors of read_obstacles and
+// read_mesh_obstacle (those of read_mesh for a mesh file).
+void load_obstacles(FillArgs& args);
+
+// Adds the obstacle files of `args` to `plan` as inputs: --obstacles,
+// --obstacle-mesh, and the mesh files that the loaded --obstacles file names.
+void plan_obstacle_reads(const FillArgs& args, PathPlan& plan);
 
 // One mesh's loops, the choice of those to fill, and the fill's report.
 struct FileFill {
@@ -95,18 +109,19 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
 std::string single_output_path(const std::string& input, const FillArgs& args);
 
 // Checks the paths of `fill` with one input file before any work (see
-// PathPlan::check): the input and --obstacles against the output, --report
-// and --flat-dir.
+// PathPlan::check): the input and the obstacle files (plan_obstacle_reads)
+// against the output, --report and --flat-dir.
 void check_single_paths(const std::string& input, const std::string& output, const FillArgs& args);
 
-// `fill` with several inputs or a folder: each file filled and written into
-// the output folder, a summary, the batch report. Returns the exit code (0, or
+// `fill` with several inputs or a folder: the obstacles read once
+// (load_obstacles), each file filled and written into the output folder, a
+// summary, the batch report. Returns the exit code (0, or
 // kBatchFailedExitCode when a file failed). Throws Error(Usage) before any
 // work for an output folder that is an input folder, two inputs that would
 // be written to the same file, or any path written that is an input or
 // another path written (PathPlan::check), Error(CannotWrite) for one that
 // cannot be written; Interrupted when a signal came (the files written by
 // then stay, the report is not written).
-int run_batch(const FillArgs& args);
+int run_batch(FillArgs args);
 
 }  // namespace foldfill::cli

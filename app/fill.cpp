@@ -17,6 +17,7 @@
 #include "foldfill/obstacles.h"
 #include "foldfill/report.h"
 #include "interrupt.h"
+#include "paths.h"
 
 namespace fs = std::filesystem;
 
@@ -65,7 +66,7 @@ FillOptions make_fill_options(const FillArgs& args) {
   options.multilevel.min_patch_vertices = args.coarse_start;
   options.solver.time_limit_seconds = args.time_limit;
   if (args.preset == "prototype") options.prototype = args.prototype;
-  if (!args.obstacles.empty()) options.obstacles = read_obstacles(args.obstacles);
+  options.obstacles = args.loaded_obstacles;
   options.keep_flat = !args.flat_dir.empty();
   return options;
 }
@@ -110,6 +111,21 @@ void print_single_summary(const FileFill& fill, const std::string& source,
 }
 
 }  // namespace
+
+void load_obstacles(FillArgs& args) {
+  args.loaded_obstacles.clear();
+  if (!args.obstacles.empty()) args.loaded_obstacles = read_obstacles(args.obstacles);
+  for (const std::string& path : args.obstacle_meshes)
+    args.loaded_obstacles.push_back(read_mesh_obstacle(path));
+}
+
+void plan_obstacle_reads(const FillArgs& args, PathPlan& plan) {
+  plan.reads(args.obstacles, "the obstacles file");
+  for (const std::string& path : args.obstacle_meshes) plan.reads(path, "an obstacle mesh");
+  for (const Obstacle& obstacle : args.loaded_obstacles)
+    if (obstacle.type == Obstacle::Type::Mesh)
+      plan.reads(obstacle.mesh->source(), "an obstacle mesh");
+}
 
 HoleSelection SelectionArgs::selection() const {
   HoleSelection s;
@@ -187,7 +203,7 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
   };
   FillResult result;
   if (args.method == "liepa") {
-    result = fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source);
+    result = fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source, options.obstacles);
   } else {
     const WatchedFill watched;
     result = fill_holes(mesh, fill.loops, fill.choice.fill, options, source);

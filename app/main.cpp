@@ -142,9 +142,9 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
         loop.id, loop.vertices.size(), loop.length, format_vec(loop.centroid), loop.bbox_diagonal,
         loop.turning * 180 / M_PI, turns_like_a_hole(loop) ? "hole-like" : "edge-like",
         is_outer(loop.id) ? "outer (left open by default)" : "filled by default",
-        loop.split_at.empty() ? ""
-                              : fmt::format(", split from the boundary at vertex {}",
-                                            fmt::join(loop.split_at, ", ")),
+        loop.split_at.empty()
+            ? ""
+            : fmt::format(", split from the boundary at vertex {}", fmt::join(loop.split_at, ", ")),
         loop.is_disk ? "" : ", not a disk: " + loop.reason);
   }
   return 0;
@@ -152,11 +152,15 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
 
 // One input file and -o a file (or a folder to write into): exactly the
 // single-file run; several inputs or a folder: a batch.
-int run_fill(const FillArgs& args) {
+int run_fill(FillArgs args) {
   std::error_code ec;
   if (args.inputs.size() > 1 || fs::is_directory(args.inputs.front(), ec)) return run_batch(args);
-  const std::string& input = args.inputs.front();
+  const std::string input = args.inputs.front();
   const std::string output = single_output_path(input, args);
+  // Once with the obstacle files named on the command line, then with the
+  // mesh files that the obstacles file names as well.
+  check_single_paths(input, output, args);
+  load_obstacles(args);
   check_single_paths(input, output, args);
   const Mesh mesh = read_mesh(input);
   return fill_single(mesh, input, output, args);
@@ -211,15 +215,22 @@ int run_demo(const std::string& out_dir, FillArgs args) {
   args.report = (fs::path(out_dir) / "report.json").string();
   RenderArgs picture;
   picture.output = (fs::path(out_dir) / "picture.png").string();
-  PathPlan plan;
-  plan.reads(args.obstacles, "the obstacles file");
-  plan.writes_folder(out_dir, "the demo folder");
-  plan.writes_file(input, "the demo's input");
-  plan.writes_file(output, "the filled mesh");
-  plan.writes_file(args.report, "the report");
-  plan.writes_file(picture.output, "the picture");
-  plan.writes_flat_folder(args.flat_dir, "the --flat-dir folder");
-  plan.check();
+  const auto check_paths = [&] {
+    PathPlan plan;
+    plan_obstacle_reads(args, plan);
+    plan.writes_folder(out_dir, "the demo folder");
+    plan.writes_file(input, "the demo's input");
+    plan.writes_file(output, "the filled mesh");
+    plan.writes_file(args.report, "the report");
+    plan.writes_file(picture.output, "the picture");
+    plan.writes_flat_folder(args.flat_dir, "the --flat-dir folder");
+    plan.check();
+  };
+  // Once with the obstacle files named on the command line, then with the
+  // mesh files that the obstacles file names as well.
+  check_paths();
+  load_obstacles(args);
+  check_paths();
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) {
@@ -279,6 +290,11 @@ void add_fill_options(CLI::App* command, FillArgs& args) {
                    "prototype repulsion weight (with --preset prototype)")
       ->check(number_in(0));
   command->add_option("--obstacles", args.obstacles, "obstacles file (JSON or prototype text)");
+  command
+      ->add_option("--obstacle-mesh", args.obstacle_meshes,
+                   "a triangle mesh to stay outside of (OBJ, PLY, OFF, STL; repeatable)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   command->add_option("--max-iterations", args.max_iterations, "iteration cap per hole")
       ->check(whole_number_in(1));
   command

@@ -108,6 +108,24 @@ DevelopableMesh make_folded_sheet(const FoldedSheetOptions& options) {
   return extrude_curve(curve, options.height, options.edge_length);
 }
 
+DevelopableMesh make_profile_sheet(const std::vector<Vec2>& profile, double height,
+                                   double edge_length) {
+  return extrude_curve({profile.begin(), profile.end()}, height, edge_length);
+}
+
+std::vector<Vec2> u_fold_profile(double length, double gap, double edge_length) {
+  std::vector<Vec2> profile;
+  const int straight = segments_for(length, edge_length);
+  const int bend = std::max(2, segments_for(kPi * gap / 2, edge_length));
+  for (int i = 0; i < straight; ++i) profile.push_back({length * (1 - double(i) / straight), 0});
+  for (int i = 0; i < bend; ++i) {
+    const double angle = kPi * i / bend;  // from the bottom of the circle, turning up
+    profile.push_back({-0.5 * gap * std::sin(angle), 0.5 * gap * (1 - std::cos(angle))});
+  }
+  for (int i = 0; i <= straight; ++i) profile.push_back({length * double(i) / straight, gap});
+  return profile;
+}
+
 DevelopableMesh make_cylinder_section(double radius, double angle, double height,
                                       double edge_length) {
   const int segments = segments_for(radius * angle, edge_length);

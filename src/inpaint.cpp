@@ -272,7 +272,8 @@ bool all_finite(const std::vector<Vec3>& positions) {
   return std::all_of(positions.begin(), positions.end(), is_finite);
 }
 
-// Why a kept patch deserves a look, or empty.
+// Why a kept patch deserves a look, or empty; its crossings are measured on
+// the output (measure_crossings), which adds them.
 std::string patch_warning(const HoleReport& report, const std::string& where) {
   std::string warning;
   if (report.stop_reason == "diverged")
@@ -281,9 +282,6 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
   if (report.stop_reason == "time_limit")
     warning = "the time limit stopped the minimisation after " + std::to_string(report.iterations) +
               " iterations";
-  if (report.self_intersections > 0)
-    warning += (warning.empty() ? "" : "; ") + std::to_string(report.self_intersections) +
-               " self-intersecting triangle pairs remain";
   return warning.empty() ? warning : where + ": " + warning;
 }
 
@@ -482,9 +480,18 @@ FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
   }
   // Holes are stitched in order, so the output does not depend on the thread count.
   const auto stitch_start = Clock::now();
+  std::vector<std::vector<int>> patch_faces(patches.size());
+  for (size_t h = 0, next = mesh.faces.size(); h < patches.size(); ++h) {
+    if (!patches[h].report.filled) continue;
+    for (size_t k = 0; k < patches[h].faces.size(); ++k)
+      patch_faces[h].push_back(static_cast<int>(next++));
+  }
   stitch_all(patches, mesh);
   report.seconds_stitch = seconds_since(stitch_start);
   for (HolePatch& patch : patches) report.holes.push_back(std::move(patch.report));
+  const auto crossings_start = Clock::now();
+  measure_crossings(mesh, patch_faces, options.obstacles, source, report);
+  report.seconds_crossings = seconds_since(crossings_start);
   report.seconds_total = seconds_since(start);
   return {std::move(mesh), std::move(report)};
 }

@@ -6,6 +6,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iterator>
 
@@ -44,10 +45,12 @@ SurfaceMesh::Halfedge_index border_halfedge(const SurfaceMesh& sm, const Boundar
 }  // namespace
 
 FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
-                            const std::vector<int>& fill_ids, const std::string& source) {
+                            const std::vector<int>& fill_ids, const std::string& source,
+                            const std::vector<Obstacle>& obstacles) {
   const auto start = std::chrono::steady_clock::now();
   SurfaceMesh sm = to_surface_mesh(mesh, source);
   FillResult result{mesh, {}};
+  std::vector<std::vector<SurfaceMesh::Face_index>> hole_faces;
   for (int id : fill_ids) {
     const BoundaryLoop& loop = loops.at(id);
     HoleReport report;
@@ -68,9 +71,13 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
       report.reason = source + ": loop " + std::to_string(id) + ": CGAL found no triangulation";
     report.patch_vertex_count = static_cast<int>(vertices.size());
     report.patch_face_count = static_cast<int>(faces.size());
+    report.length_scale = loop.mean_edge_length;
     result.report.holes.push_back(report);
+    hole_faces.push_back(std::move(faces));
   }
-  // CGAL appends vertices and faces after the existing ones.
+  // CGAL appends vertices and faces after the existing ones; `index` maps
+  // the new ones to their place in the result.
+  std::vector<int> index(sm.number_of_faces(), -1);
   for (auto v : sm.vertices()) {
     if (static_cast<int>(v.idx()) < mesh.vertex_count()) continue;
     const auto& p = sm.point(v);
@@ -82,12 +89,23 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
     int k = 0;
     for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm))
       t[k++] = static_cast<int>(v.idx());
+    if (f.idx() >= index.size()) index.resize(f.idx() + 1, -1);
+    index[f.idx()] = result.mesh.face_count();
     result.mesh.faces.push_back(t);
     if (!result.mesh.face_texcoords.empty()) result.mesh.face_texcoords.push_back({-1, -1, -1});
     if (!result.mesh.face_normals.empty()) result.mesh.face_normals.push_back({-1, -1, -1});
   }
-  result.report.seconds_total =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<std::vector<int>> patch_faces(hole_faces.size());
+  for (size_t h = 0; h < hole_faces.size(); ++h) {
+    for (auto f : hole_faces[h])
+      if (f.idx() < index.size() && index[f.idx()] >= 0) patch_faces[h].push_back(index[f.idx()]);
+    std::sort(patch_faces[h].begin(), patch_faces[h].end());
+  }
+  const auto crossings_start = std::chrono::steady_clock::now();
+  measure_crossings(result.mesh, patch_faces, obstacles, source, result.report);
+  const auto end = std::chrono::steady_clock::now();
+  result.report.seconds_crossings = std::chrono::duration<double>(end - crossings_start).count();
+  result.report.seconds_total = std::chrono::duration<double>(end - start).count();
   return result;
 }
 

@@ -1,6 +1,6 @@
-// Quality figures of a filled patch. Self-intersections use CGAL's exact
-// triangle-triangle tests and surface distances CGAL's AABB tree (this is one
-// of the few translation units that include CGAL).
+// Quality figures of a filled patch. Self-intersections and crossings use
+// CGAL's exact triangle-triangle tests and surface distances CGAL's AABB tree
+// (this is one of the few translation units that include CGAL).
 #include "foldfill/metrics.h"
 
 #include <CGAL/AABB_traits.h>
@@ -11,10 +11,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
+#include <unordered_map>
 #include <utility>
 
 #include "foldfill/error.h"
+#include "triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -304,6 +307,37 @@ bool faces_intersect(const std::vector<Vec3>& positions, const Tri& f, const Tri
   return CGAL::do_intersect(f_triangle, g_opposite) || CGAL::do_intersect(g_triangle, f_opposite);
 }
 
+// The box of a face; false when a corner is not finite.
+bool face_box(const std::vector<Vec3>& positions, const Tri& f, Box3& box) {
+  const Vec3 &p = positions[f[0]], &q = positions[f[1]], &r = positions[f[2]];
+  if (!is_finite(p) || !is_finite(q) || !is_finite(r)) return false;
+  for (int c = 0; c < 3; ++c) {
+    box.low[c] = std::min({p[c], q[c], r[c]});
+    box.high[c] = std::max({p[c], q[c], r[c]});
+  }
+  return true;
+}
+
+bool overlap(const Box3& a, const Box3& b) {
+  for (int c = 0; c < 3; ++c)
+    if (a.high[c] < b.low[c] || b.high[c] < a.low[c]) return false;
+  return true;
+}
+
+// The distance between two boxes: a lower bound of that of what they hold.
+double box_gap(const FaceBox& a, const FaceBox& b) {
+  double squared = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double gap = std::max({a.low[c] - b.high[c], b.low[c] - a.high[c], 0.0});
+    squared += gap * gap;
+  }
+  return std::sqrt(squared);
+}
+
+geometry::Triangle corners(const std::vector<Vec3>& positions, const Tri& f) {
+  return {positions[f[0]], positions[f[1]], positions[f[2]]};
+}
+
 }  // namespace
 
 CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
@@ -511,6 +545,158 @@ std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>&
   }
   std::sort(reached.begin(), reached.end());
   return reached;
+}
+
+}  // namespace foldfill
+
+namespace foldfill {
+
+Box3 bounding_box(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                  const std::vector<int>& subset, double margin) {
+  Box3 box;
+  box.low.fill(HUGE_VAL);
+  box.high.fill(-HUGE_VAL);
+  for (int f : subset) {
+    Box3 face;
+    if (!face_box(positions, faces[f], face)) continue;
+    for (int c = 0; c < 3; ++c) {
+      box.low[c] = std::min(box.low[c], face.low[c] - margin);
+      box.high[c] = std::max(box.high[c], face.high[c] + margin);
+    }
+  }
+  return box;
+}
+
+std::vector<std::vector<int>> faces_near_boxes(const std::vector<Vec3>& positions,
+                                               const std::vector<Tri>& faces,
+                                               const std::vector<Box3>& boxes) {
+  std::vector<std::vector<int>> near(boxes.size());
+  // Cells as wide as the widest box, so that a box is in at most 8 of them.
+  Box3 all;
+  all.low.fill(HUGE_VAL);
+  all.high.fill(-HUGE_VAL);
+  double width = 0;
+  for (const Box3& box : boxes) {
+    for (int c = 0; c < 3; ++c) {
+      if (!(box.low[c] <= box.high[c])) continue;
+      all.low[c] = std::min(all.low[c], box.low[c]);
+      all.high[c] = std::max(all.high[c], box.high[c]);
+      width = std::max(width, box.high[c] - box.low[c]);
+    }
+  }
+  if (!(all.low[0] <= all.high[0] && all.low[1] <= all.high[1] && all.low[2] <= all.high[2]))
+    return near;  // no box holds anything
+  if (!(width > 0) || !std::isfinite(width)) width = 1;
+  const auto index = [&](double x, int c) {
+    return static_cast<std::int64_t>(
+        std::floor((std::clamp(x, all.low[c], all.high[c]) - all.low[c]) / width));
+  };
+  const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull ^
+           static_cast<std::uint64_t>(j) * 0xC2B2AE3D27D4EB4Full ^
+           static_cast<std::uint64_t>(k) * 0x165667B19E3779F9ull;
+  };
+  std::unordered_map<std::uint64_t, std::vector<int>> cells;
+  for (int b = 0; b < static_cast<int>(boxes.size()); ++b) {
+    const Box3& box = boxes[b];
+    if (!(box.low[0] <= box.high[0] && box.low[1] <= box.high[1] && box.low[2] <= box.high[2]))
+      continue;
+    for (auto k = index(box.low[2], 2); k <= index(box.high[2], 2); ++k)
+      for (auto j = index(box.low[1], 1); j <= index(box.high[1], 1); ++j)
+        for (auto i = index(box.low[0], 0); i <= index(box.high[0], 0); ++i)
+          cells[key(i, j, k)].push_back(b);
+  }
+  // A face that spans more cells than this is tested against every box.
+  constexpr std::int64_t kMostCellsPerFace = 64;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    Box3 box;
+    if (!face_box(positions, faces[f], box) || !overlap(box, all)) continue;
+    const auto add = [&](int b) {
+      if (overlap(box, boxes[b]) && (near[b].empty() || near[b].back() != f)) near[b].push_back(f);
+    };
+    std::array<std::int64_t, 3> from, to;
+    for (int c = 0; c < 3; ++c) {
+      from[c] = index(box.low[c], c);
+      to[c] = index(box.high[c], c);
+    }
+    if ((to[0] - from[0] + 1) * (to[1] - from[1] + 1) * (to[2] - from[2] + 1) > kMostCellsPerFace) {
+      for (int b = 0; b < static_cast<int>(boxes.size()); ++b) add(b);
+      continue;
+    }
+    for (auto k = from[2]; k <= to[2]; ++k)
+      for (auto j = from[1]; j <= to[1]; ++j)
+        for (auto i = from[0]; i <= to[0]; ++i) {
+          const auto cell = cells.find(key(i, j, k));
+          if (cell == cells.end()) continue;
+          for (int b : cell->second) add(b);
+        }
+  }
+  return near;
+}
+
+SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
+                                       const std::vector<Tri>& faces,
+                                       const std::vector<int>& subset, double reach,
+                                       const std::vector<int>* nearby) {
+  SubsetCrossings result;
+  result.min_distance = reach;
+  if (subset.empty()) return result;
+  std::vector<int> found;
+  if (!nearby) {
+    found = faces_near_boxes(positions, faces, {bounding_box(positions, faces, subset, reach)})[0];
+    nearby = &found;
+  }
+  std::vector<int> local;  // the faces looked at: `subset` and those near it
+  local.reserve(nearby->size() + subset.size());
+  std::set_union(nearby->begin(), nearby->end(), subset.begin(), subset.end(),
+                 std::back_inserter(local));
+  result.faces_examined = static_cast<int>(local.size());
+
+  // The boxes of the nondegenerate faces, as face_boxes makes them, and the
+  // same grown by half the reach: those of two faces within `reach` of each
+  // other overlap.
+  std::vector<FaceBox> boxes, grown;
+  std::vector<int> face_of;  // of each box
+  boxes.reserve(local.size());
+  grown.reserve(local.size());
+  face_of.reserve(local.size());
+  for (size_t i = 0, s = 0; i < local.size(); ++i) {
+    const int f = local[i];
+    while (s < subset.size() && subset[s] < f) ++s;
+    const bool counted = s < subset.size() && subset[s] == f;
+    const Tri& t = faces[f];
+    Box3 box;
+    if (!face_box(positions, t, box) ||
+        CGAL::collinear(point(positions[t[0]]), point(positions[t[1]]), point(positions[t[2]]))) {
+      result.within += counted;
+      continue;
+    }
+    FaceBox face{box.low, box.high, static_cast<int>(boxes.size()), counted};
+    boxes.push_back(face);
+    face_of.push_back(f);
+    for (int c = 0; c < 3; ++c) {
+      face.low[c] -= 0.5 * reach;
+      face.high[c] += 0.5 * reach;
+    }
+    grown.push_back(face);
+  }
+  double& best = result.min_distance;
+  for_each_overlapping_pair(grown, [&](int i, int j) {
+    const int f = face_of[i], g = face_of[j];
+    const bool intersect =
+        overlap(boxes[i], boxes[j]) && faces_intersect(positions, faces[f], faces[g]);
+    if (intersect) ++(boxes[i].counted && boxes[j].counted ? result.within : result.with_others);
+    if (best > 0 && !share_a_vertex(faces[f], faces[g])) {
+      if (intersect) {
+        best = 0;
+      } else if (box_gap(boxes[i], boxes[j]) < best) {
+        best = std::min(best, geometry::disjoint_triangle_distance(corners(positions, faces[f]),
+                                                                   corners(positions, faces[g])));
+      }
+    }
+    return true;
+  });
+  return result;
 }
 
 }  // namespace foldfill

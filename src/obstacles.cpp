@@ -1,17 +1,21 @@
 // Rigid obstacles: parsing (JSON or the prototype's text lines), signed
-// distances and projection of inside points to the nearest surface point.
+// distances, projection of inside points to the nearest surface point, and
+// whether a triangle crosses into them. Mesh obstacles are src/obstacle_mesh.cpp's.
 #include "foldfill/obstacles.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "foldfill/error.h"
+#include "foldfill/io.h"
+#include "triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -95,6 +99,13 @@ class JsonEntry {
     if (!value.is_number()) fail(where_, "\"" + std::string(key) + "\" must be a number");
     return value.get<double>();
   }
+  std::string text(const char* key) const {
+    const Json& value = field(key);
+    if (!value.is_string() || value.get<std::string>().empty()) {
+      fail(where_, "\"" + std::string(key) + "\" must be a non-empty string");
+    }
+    return value.get<std::string>();
+  }
   Vec3 vec3(const char* key) const {
     const Json& value = field(key);
     if (!value.is_array() || value.size() != 3 ||
@@ -114,8 +125,20 @@ class JsonEntry {
   std::string where_;
 };
 
-Obstacle parse_json_entry(const JsonEntry& entry, const std::string& type) {
+// A mesh entry's file: relative paths start from the folder of `source`.
+std::string mesh_path(const std::string& file, const std::string& source) {
+  const std::filesystem::path path(file);
+  if (path.is_absolute()) return file;
+  return (std::filesystem::path(source).parent_path() / path).string();
+}
+
+Obstacle parse_json_entry(const JsonEntry& entry, const std::string& type,
+                          const std::string& source) {
   Obstacle o;
+  if (type == "mesh") {
+    entry.check_keys({"type", "file"}, type);
+    return read_mesh_obstacle(mesh_path(entry.text("file"), source));
+  }
   if (type == "sphere") {
     entry.check_keys({"type", "center", "radius"}, type);
     o.type = Obstacle::Type::Sphere;
@@ -143,7 +166,7 @@ Obstacle parse_json_entry(const JsonEntry& entry, const std::string& type) {
     o.center = entry.vec3("point");
     o.normal = entry.vec3("normal");
   } else {
-    fail(entry.where(), "unknown type \"" + type + "\" (sphere, cylinder or plane)");
+    fail(entry.where(), "unknown type \"" + type + "\" (sphere, cylinder, plane or mesh)");
   }
   return validated(o, entry.where());
 }
@@ -168,10 +191,10 @@ std::vector<Obstacle> parse_json(const std::string& text, const std::string& sou
     const std::string where = source + ": obstacle " + std::to_string(k + 1);
     if (!item.is_object()) fail(where, "must be an object");
     if (!item.contains("type") || !item.at("type").is_string()) {
-      fail(where, "missing \"type\" (sphere, cylinder or plane)");
+      fail(where, "missing \"type\" (sphere, cylinder, plane or mesh)");
     }
     obstacles.push_back(
-        parse_json_entry(JsonEntry(item, where), item.at("type").get<std::string>()));
+        parse_json_entry(JsonEntry(item, where), item.at("type").get<std::string>(), source));
   }
   return obstacles;
 }
@@ -300,6 +323,48 @@ Vec3 nearest_on_cylinder_from_inside(const Obstacle& cylinder, const Vec3& p) {
   return add(cylinder.center, add(scaled(cylinder.axis, t), radial));
 }
 
+// The smallest signed distance from the triangle to a sphere, a cylinder or
+// a plane (the signed distance of each is a convex function). A cylinder's is
+// searched for; the search stops at a value below `stop_below`, and is
+// skipped where the corners or the bound by the centroid settle it.
+double smallest_signed_distance(const Obstacle& obstacle, const geometry::Triangle& triangle,
+                                double stop_below) {
+  switch (obstacle.type) {
+    case Obstacle::Type::Sphere:
+      return norm(sub(geometry::closest_point_on_triangle(obstacle.center, triangle),
+                      obstacle.center)) -
+             obstacle.radius;
+    case Obstacle::Type::Plane: {
+      double least = HUGE_VAL;
+      for (const Vec3& corner : triangle)
+        least = std::min(least, dot(sub(corner, obstacle.center), obstacle.normal));
+      return least;
+    }
+    case Obstacle::Type::Cylinder: {
+      double least = HUGE_VAL;
+      for (const Vec3& corner : triangle)
+        least = std::min(least, cylinder_distance(obstacle, corner));
+      if (least < stop_below) return least;
+      return std::min(
+          least,
+          geometry::minimum_over_triangle(
+              triangle, [&](const Vec3& p) { return cylinder_distance(obstacle, p); }, stop_below));
+    }
+    case Obstacle::Type::Mesh:
+      break;
+  }
+  return HUGE_VAL;
+}
+
+// A lower bound of the signed distance over the triangle: it is
+// 1-Lipschitz, so the centroid's less the farthest corner's distance from it.
+double lower_bound(const Obstacle& obstacle, const geometry::Triangle& triangle) {
+  const Vec3 centroid = scaled(add(add(triangle[0], triangle[1]), triangle[2]), 1.0 / 3);
+  double spread = 0;
+  for (const Vec3& corner : triangle) spread = std::max(spread, norm(sub(corner, centroid)));
+  return signed_distance(obstacle, centroid) - spread;
+}
+
 }  // namespace
 
 std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string& source) {
@@ -318,6 +383,10 @@ std::vector<Obstacle> read_obstacles(const std::string& path) {
   return parse_obstacles(text.str(), path);
 }
 
+Obstacle read_mesh_obstacle(const std::string& path) {
+  return mesh_obstacle(read_mesh(path), path);
+}
+
 double signed_distance(const Obstacle& obstacle, const Vec3& p) {
   switch (obstacle.type) {
     case Obstacle::Type::Sphere:
@@ -326,6 +395,8 @@ double signed_distance(const Obstacle& obstacle, const Vec3& p) {
       return cylinder_distance(obstacle, p);
     case Obstacle::Type::Plane:
       return dot(sub(p, obstacle.center), obstacle.normal);
+    case Obstacle::Type::Mesh:
+      return obstacle.mesh->signed_distance(p);
   }
   return 0;
 }
@@ -338,6 +409,8 @@ Vec3 outward_normal(const Obstacle& obstacle, const Vec3& p) {
       return cylinder_normal(obstacle, p);
     case Obstacle::Type::Plane:
       return obstacle.normal;
+    case Obstacle::Type::Mesh:
+      return obstacle.mesh->outward_normal(p);
   }
   return {0, 0, 0};
 }
@@ -361,11 +434,14 @@ bool farther_than(const Obstacle& obstacle, const Vec3& p, double gap) {
     }
     case Obstacle::Type::Plane:
       return dot(d, obstacle.normal) > grown * gap;
+    case Obstacle::Type::Mesh:
+      return obstacle.mesh->farther_than(p, gap);
   }
   return false;
 }
 
 bool push_outside(const Obstacle& obstacle, Vec3& p) {
+  if (obstacle.type == Obstacle::Type::Mesh) return obstacle.mesh->push_outside(p);
   const double distance = signed_distance(obstacle, p);
   if (!(distance < 0)) return false;
   switch (obstacle.type) {
@@ -377,6 +453,8 @@ bool push_outside(const Obstacle& obstacle, Vec3& p) {
       break;
     case Obstacle::Type::Plane:
       p = sub(p, scaled(obstacle.normal, distance));
+      break;
+    case Obstacle::Type::Mesh:
       break;
   }
   return true;
@@ -390,7 +468,24 @@ Obstacle normalized(const Obstacle& obstacle, const Vec3& origin, double scale) 
   result.center = scaled(sub(obstacle.center, origin), 1 / scale);
   result.radius = obstacle.radius / scale;
   result.height = obstacle.height / scale;
+  if (obstacle.type == Obstacle::Type::Mesh) {
+    Mesh mesh = obstacle.mesh->mesh();
+    for (Vec3& p : mesh.positions) p = scaled(sub(p, origin), 1 / scale);
+    result.mesh = std::make_shared<const ObstacleMesh>(std::move(mesh), obstacle.mesh->source());
+  }
   return result;
+}
+
+bool crosses(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double tolerance) {
+  if (obstacle.type == Obstacle::Type::Mesh) return obstacle.mesh->crosses(triangle);
+  if (lower_bound(obstacle, triangle) >= -tolerance) return false;
+  return smallest_signed_distance(obstacle, triangle, -tolerance) < -tolerance;
+}
+
+double distance(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double limit) {
+  if (obstacle.type == Obstacle::Type::Mesh) return obstacle.mesh->distance(triangle, limit);
+  if (lower_bound(obstacle, triangle) >= limit) return limit;
+  return std::clamp(smallest_signed_distance(obstacle, triangle, 0.0), 0.0, limit);
 }
 
 }  // namespace foldfill

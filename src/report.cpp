@@ -57,6 +57,11 @@ nlohmann::json to_json(const HoleReport& hole) {
       {"edge_length_rms_rel",
        {{"after_arap", hole.edge_length_rms_rel_after_arap},
         {"final", hole.edge_length_rms_rel_final}}},
+      {"crossings",
+       {{"patch_patch", hole.crossings.patch_patch},
+        {"patch_mesh", hole.crossings.patch_mesh},
+        {"patch_obstacles", hole.crossings.patch_obstacles}}},
+      {"min_distance", hole.min_distance},
       {"self_intersections", hole.self_intersections},
       {"repulsion", hole.repulsion},
       {"lambda", hole.lambda},
@@ -76,7 +81,8 @@ nlohmann::json to_json(const FillReport& report) {
           {"seconds",
            {{"prepare", report.seconds_prepare},
             {"holes", report.seconds_holes},
-            {"stitch", report.seconds_stitch}}},
+            {"stitch", report.seconds_stitch},
+            {"crossings", report.seconds_crossings}}},
           {"seconds_total", report.seconds_total}};
 }
 

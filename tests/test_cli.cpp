@@ -757,9 +757,7 @@ TEST_F(CliTest, UsageErrorsAreOneLine) {
 // A 5 x 5 vertex grid and a triangle that touches its corner vertex: the two
 // pieces meet only there, so the triangle's loop (loop 1) is not a disk
 // boundary and the default leaves it open with a warning.
-std::string pinched_hole_obj() {
-  return grid_obj(5, {}, 0.0) + "v -1 0 0\nv 0 -1 0\nf 1 26 27\n";
-}
+std::string pinched_hole_obj() { return grid_obj(5, {}, 0.0) + "v -1 0 0\nv 0 -1 0\nf 1 26 27\n"; }
 
 // An open cylinder: two loops of the same length, neither turning like a
 // hole, so the default and --holes auto differ, with a warning.
@@ -837,6 +835,133 @@ TEST_F(CliTest, WarningsNameTheirFileOnce) {
       EXPECT_EQ(run.out.find(path + ": loop 1: " + path), std::string::npos) << run.out;
     }
   }
+}
+
+// A closed box of 12 triangles, [x0, x1] x [y0, y1] x [z0, z1], as OBJ text.
+std::string box_obj(double x0, double x1, double y0, double y1, double z0, double z1) {
+  std::string obj;
+  for (int k = 0; k < 8; ++k)
+    obj += "v " + std::to_string(k & 1 ? x1 : x0) + " " + std::to_string(k & 2 ? y1 : y0) + " " +
+           std::to_string(k & 4 ? z1 : z0) + "\n";
+  for (const char* faces : {"1 3 4", "1 4 2", "5 6 8", "5 8 7", "1 2 6", "1 6 5", "3 7 8", "3 8 4",
+                            "1 5 7", "1 7 3", "2 4 8", "2 8 6"})
+    obj += std::string("f ") + faces + "\n";
+  return obj;
+}
+
+TEST_F(CliTest, ABadObstacleMeshFailsLikeABadInput) {
+  write_text(dir_ / "grid.obj", grid_obj(8, {{3, 3}, {3, 4}, {4, 3}, {4, 4}}, 0.0));
+  write_text(dir_ / "garbage.obj", "this is not a mesh\n");
+  write_text(dir_ / "fan.obj", kNonManifoldObj);
+  const auto expect_error = [&](const std::string& options, int code, const fs::path& named) {
+    SCOPED_TRACE(options);
+    const CliRun run = run_cli("fill " + (dir_ / "grid.obj").string() + " -o " +
+                                   (dir_ / "out.obj").string() + " " + options,
+                               dir_);
+    EXPECT_EQ(run.code, code) << run.err;
+    EXPECT_EQ(run.err.rfind("foldfill: error: " + named.string() + ": ", 0), 0u) << run.err;
+    EXPECT_EQ(line_count(run.err), 1) << run.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+  };
+  expect_error("--obstacle-mesh " + (dir_ / "absent.obj").string(), 3, dir_ / "absent.obj");
+  expect_error("--obstacle-mesh " + (dir_ / "garbage.obj").string(), 4, dir_ / "garbage.obj");
+  expect_error("--obstacle-mesh " + (dir_ / "fan.obj").string(), 7, dir_ / "fan.obj");
+  // Named in the obstacles file, relative to its folder.
+  fs::create_directories(dir_ / "scene");
+  write_text(dir_ / "scene" / "obstacles.json",
+             R"({"obstacles": [{"type": "mesh", "file": "../garbage.obj"}]})");
+  expect_error("--obstacles " + (dir_ / "scene" / "obstacles.json").string(), 4,
+               dir_ / "scene" / ".." / "garbage.obj");
+}
+
+TEST_F(CliTest, AnObstacleMeshIsNeverWritten) {
+  const fs::path input = dir_ / "grid.obj", body = dir_ / "body.obj";
+  write_text(input, grid_with_hole_obj());
+  const std::string box = box_obj(0, 1, 0, 1, -2, -1);
+  write_text(body, box);
+  const std::string fill = "fill " + input.string() + " ";
+  expect_refusal(run_cli(fill + "-o " + body.string() + " --obstacle-mesh " + body.string(), dir_),
+                 2, body.string());
+  expect_refusal(run_cli(fill + "-o " + (dir_ / "out.obj").string() + " --report " + body.string() +
+                             " --obstacle-mesh " + body.string(),
+                         dir_),
+                 2, body.string());
+  // A mesh named in the obstacles file, as written by --report.
+  write_text(dir_ / "obstacles.json", R"({"obstacles": [{"type": "mesh", "file": "body.obj"}]})");
+  expect_refusal(run_cli(fill + "-o " + (dir_ / "out.obj").string() + " --report " + body.string() +
+                             " --obstacles " + (dir_ / "obstacles.json").string(),
+                         dir_),
+                 2, body.string());
+  // A batch, and the demo, whose input it would be.
+  fs::create_directories(dir_ / "in");
+  write_text(dir_ / "in" / "a.obj", grid_with_hole_obj());
+  expect_refusal(run_cli("fill " + (dir_ / "in").string() + " -o " + dir_.string() + " --report " +
+                             body.string() + " --obstacle-mesh " + body.string(),
+                         dir_),
+                 2, body.string());
+  fs::create_directories(dir_ / "demo");
+  write_text(dir_ / "demo" / "input.obj", box);
+  expect_refusal(run_cli("demo " + (dir_ / "demo").string() + " --obstacle-mesh " +
+                             (dir_ / "demo" / "input.obj").string(),
+                         dir_),
+                 2, (dir_ / "demo" / "input.obj").string());
+  EXPECT_EQ(slurp(body), box);
+  EXPECT_EQ(slurp(dir_ / "demo" / "input.obj"), box);
+  EXPECT_FALSE(fs::exists(dir_ / "out.obj"));
+}
+
+// A plane above the sheet: the patch's vertices are pushed up to it, but its
+// faces at the loop reach down to the sheet, below the plane. A box under the
+// sheet, named by --obstacle-mesh, stays clear of it.
+TEST_F(CliTest, CrossingsAreReportedAndWarnedPerHole) {
+  const fs::path input = dir_ / "grid.obj", report = dir_ / "report.json";
+  write_text(input, grid_obj(8, {{3, 3}, {3, 4}, {4, 3}, {4, 4}}, 0.0));
+  write_text(dir_ / "plane.json",
+             R"({"obstacles": [{"type": "plane", "point": [0, 0, 0.5], "normal": [0, 0, 1]}]})");
+  write_text(dir_ / "under.obj", box_obj(2, 6, 2, 6, -2, -0.5));
+  write_text(dir_ / "far.obj", box_obj(20, 21, 20, 21, 20, 21));
+  const std::string fill = "fill " + input.string() + " -o " + (dir_ / "out.obj").string() +
+                           " --report " + report.string() + " ";
+  const CliRun clean = run_cli(fill + "--obstacle-mesh " + (dir_ / "under.obj").string() +
+                                   " --obstacle-mesh " + (dir_ / "far.obj").string(),
+                               dir_);
+  ASSERT_EQ(clean.code, 0) << clean.err;
+  EXPECT_TRUE(clean.err.empty()) << clean.err;
+  nlohmann::json hole = nlohmann::json::parse(slurp(report))["holes"][0];
+  EXPECT_EQ(hole["crossings"],
+            (nlohmann::json{{"patch_patch", 0}, {"patch_mesh", 0}, {"patch_obstacles", 0}}));
+  EXPECT_EQ(hole["self_intersections"], 0);
+  EXPECT_GT(hole["min_distance"].get<double>(), 0);
+
+  const CliRun crossing = run_cli(fill + "--obstacles " + (dir_ / "plane.json").string(), dir_);
+  ASSERT_EQ(crossing.code, 0) << crossing.err;
+  hole = nlohmann::json::parse(slurp(report))["holes"][0];
+  const int faces = hole["patch_face_count"];
+  EXPECT_EQ(hole["crossings"]["patch_obstacles"], faces);
+  EXPECT_EQ(hole["self_intersections"], faces);
+  EXPECT_EQ(hole["min_distance"], 0);
+  const std::string warning = "foldfill: warning: " + input.string() +
+                              ": loop 1: the fill crosses obstacles (patch_obstacles " +
+                              std::to_string(faces) + ")\n";
+  EXPECT_EQ(crossing.err, warning);
+  const CliRun liepa =
+      run_cli(fill + "--method liepa --obstacles " + (dir_ / "plane.json").string(), dir_);
+  ASSERT_EQ(liepa.code, 0) << liepa.err;
+  EXPECT_NE(liepa.err.find("the fill crosses obstacles"), std::string::npos) << liepa.err;
+  // In a batch too, and not with --quiet.
+  fs::create_directories(dir_ / "in");
+  fs::copy_file(input, dir_ / "in" / "grid.obj");
+  const CliRun batch = run_cli("fill " + (dir_ / "in").string() + " -o " + (dir_ / "out").string() +
+                                   " --obstacles " + (dir_ / "plane.json").string(),
+                               dir_);
+  ASSERT_EQ(batch.code, 0) << batch.err;
+  EXPECT_NE(batch.err.find("foldfill: warning: " + (dir_ / "in" / "grid.obj").string() +
+                           ": loop 1: the fill crosses obstacles (patch_obstacles "),
+            std::string::npos)
+      << batch.err;
+  const CliRun quiet = run_cli(fill + "-q --obstacles " + (dir_ / "plane.json").string(), dir_);
+  EXPECT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
 }
 
 }  // namespace

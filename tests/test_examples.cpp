@@ -70,6 +70,22 @@ TEST(Examples, CylinderAndConeSectionsAreIsometric) {
   expect_isometric_and_ccw(make_cone_section(0.5, 0.5, 2.0, 2.5, 0.05));
 }
 
+TEST(Examples, UFoldedSheetIsIsometricWithItsLayersTheGapApart) {
+  const std::vector<Vec2> profile = u_fold_profile(2.0, 0.15, 0.1);
+  const DevelopableMesh sheet = make_profile_sheet(profile, 1.0, 0.1);
+  expect_isometric_and_ccw(sheet);
+  EXPECT_EQ(sheet.mesh.vertex_count() % static_cast<int>(profile.size()), 0);
+  double z_min = 1, z_max = -1, x_min = 1;
+  for (const Vec3& p : sheet.mesh.positions) {
+    z_min = std::min(z_min, p[2]);
+    z_max = std::max(z_max, p[2]);
+    x_min = std::min(x_min, p[0]);
+  }
+  EXPECT_DOUBLE_EQ(z_min, 0);
+  EXPECT_DOUBLE_EQ(z_max, 0.15);
+  EXPECT_NEAR(x_min, -0.075, 1e-12);  // the bend's half circle
+}
+
 TEST(Examples, CutDiskHoleLeavesOneSimpleHole) {
   FoldedSheetOptions options;
   options.edge_length = 0.05;

@@ -75,7 +75,17 @@ TEST(Reference, EveryPrototypeExampleFills) {
     const FillResult result = fill_holes(mesh, loops, {hole}, options, c.file);
     const HoleReport& report = result.report.holes.at(0);
     ASSERT_TRUE(report.filled) << report.reason;
-    EXPECT_EQ(report.self_intersections, 0);
+    // Neither through itself nor through the cloth around it. Faces resting
+    // on an obstacle (sim1, sim2) between vertices kept on its surface dip
+    // into it: those are counted apart, and only printed here.
+    EXPECT_EQ(report.crossings.patch_patch, 0);
+    EXPECT_EQ(report.crossings.patch_mesh, 0);
+    if (c.obstacles.empty()) {
+      EXPECT_EQ(report.crossings.patch_obstacles, 0);
+    }
+    std::printf("%s: crossings %d / %d / %d, min distance %.3g h\n", c.file.c_str(),
+                report.crossings.patch_patch, report.crossings.patch_mesh,
+                report.crossings.patch_obstacles, report.min_distance);
     // Developable: the mean angle defect per vertex is a small fraction of a
     // degree (|K| times the vertex area, about 0.43 h^2 on a regular patch).
     const double h2 = report.length_scale * report.length_scale;
@@ -154,7 +164,7 @@ TEST(Reference, Sim2SettlesBetweenItsObstaclesInFewIterations) {
   options.solver.max_iterations = 200000;
   const HoleReport descent = fill_reference(sim2, options);
   ASSERT_TRUE(fast.filled && descent.filled);
-  EXPECT_EQ(fast.self_intersections, 0);
+  EXPECT_EQ(fast.crossings.patch_patch + fast.crossings.patch_mesh, 0);
   EXPECT_EQ("converged", fast.stop_reason);
   EXPECT_LT(fast.iterations, 600);
   EXPECT_LT(fast.energy_final.total, 1.005 * descent.energy_final.total);

@@ -1,5 +1,6 @@
-// count_self_intersections against CGAL's Polygon_mesh_processing::
-// self_intersections over the whole mesh, on randomly crumpled grids.
+// count_self_intersections and count_subset_crossings against CGAL's
+// Polygon_mesh_processing::self_intersections over the whole mesh, and the
+// latter's distance against a test of every pair, on randomly crumpled grids.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "foldfill/metrics.h"
+#include "triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -57,6 +59,31 @@ int grid(int n, std::vector<Vec3>& positions, std::vector<Tri>& faces) {
   return static_cast<int>(strip.size());
 }
 
+// The least distance between a face of `subset` and a face that shares no
+// vertex with it (0 where they intersect), at most `reach`: every pair.
+double brute_force_distance(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                            const std::vector<int>& subset, double reach) {
+  const auto triangle = [&](const Tri& f) {
+    return Kernel::Triangle_3({positions[f[0]][0], positions[f[0]][1], positions[f[0]][2]},
+                              {positions[f[1]][0], positions[f[1]][1], positions[f[1]][2]},
+                              {positions[f[2]][0], positions[f[2]][1], positions[f[2]][2]});
+  };
+  double best = reach;
+  for (int f : subset)
+    for (const Tri& g : faces) {
+      const Tri& t = faces[f];
+      bool shared = false;
+      for (int v : g) shared = shared || v == t[0] || v == t[1] || v == t[2];
+      if (shared || triangle(t).is_degenerate() || triangle(g).is_degenerate()) continue;
+      const geometry::Triangle a{positions[t[0]], positions[t[1]], positions[t[2]]},
+          b{positions[g[0]], positions[g[1]], positions[g[2]]};
+      best = std::min(best, CGAL::do_intersect(triangle(t), triangle(g))
+                                ? 0.0
+                                : geometry::disjoint_triangle_distance(a, b));
+    }
+  return best;
+}
+
 TEST(SelfIntersections, CountEqualsCgalsOnCrumpledGrids) {
   std::mt19937 random(12345);
   std::uniform_int_distribution<int> step(-4, 4);
@@ -87,6 +114,20 @@ TEST(SelfIntersections, CountEqualsCgalsOnCrumpledGrids) {
       EXPECT_EQ(count_self_intersections(positions, faces, counted_from), expected)
           << "trial " << trial << ", counted from face " << counted_from;
       intersecting += expected > 0;
+      std::vector<int> subset;
+      for (int f = counted_from; f < total; ++f) subset.push_back(f);
+      const double reach = 1.5;
+      const SubsetCrossings crossings = count_subset_crossings(positions, faces, subset, reach);
+      EXPECT_EQ(crossings.within + crossings.with_others, expected)
+          << "trial " << trial << ", counted from face " << counted_from;
+      EXPECT_EQ(crossings.within,
+                pmp_count(positions, {faces.begin() + counted_from, faces.end()}, 0))
+          << "trial " << trial << ", counted from face " << counted_from;
+      if (counted_from == strip_faces) {
+        EXPECT_NEAR(crossings.min_distance, brute_force_distance(positions, faces, subset, reach),
+                    1e-14)
+            << "trial " << trial;
+      }
     }
   }
   EXPECT_GT(intersecting, 300);  // the comparison is not only of zeros

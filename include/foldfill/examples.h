@@ -27,6 +27,20 @@ struct FoldedSheetOptions {
 };
 DevelopableMesh make_folded_sheet(const FoldedSheetOptions& options = {});
 
+// A sheet whose cross-section in the xz plane is the polyline `profile`
+// (points (x, z), a column of vertices each), extruded along y over [0,
+// height] with rows about `edge_length` apart. The flat u is the arc length
+// along the profile: exactly developable. The profile may fold back over
+// itself (layers of cloth above one another) as long as it does not cross
+// itself.
+DevelopableMesh make_profile_sheet(const std::vector<Vec2>& profile, double height,
+                                   double edge_length);
+
+// The profile of a sheet folded over itself: the lower layer from (length, 0)
+// to (0, 0) at z = 0, a half circle of diameter `gap` up to (0, gap), and the
+// upper layer back to (length, gap); points about `edge_length` apart.
+std::vector<Vec2> u_fold_profile(double length, double gap, double edge_length);
+
 // A section of a cylinder of `radius`, spanning `angle` radians and `height`.
 DevelopableMesh make_cylinder_section(double radius, double angle, double height,
                                       double edge_length);

@@ -49,6 +49,15 @@ struct StageSeconds {
   double flatten = 0, triangulate = 0, arap = 0, optimize = 0, total = 0;
 };
 
+// How a hole's patch crosses the rest of the output, counted on the output
+// with exact predicates (see measure_crossings).
+struct Crossings {
+  int patch_patch = 0;      // pairs of intersecting triangles both new faces of this hole
+  int patch_mesh = 0;       // pairs of a new face and another face of the output that intersect
+  int patch_obstacles = 0;  // new faces that cross into an obstacle
+  int total() const { return patch_patch + patch_mesh + patch_obstacles; }
+};
+
 struct HoleReport {
   int loop_id = 0;
   bool filled = false;
@@ -58,8 +67,9 @@ struct HoleReport {
   int patch_face_count = 0;
   int iterations = 0;
   std::string stop_reason;
-  // Set when the patch was kept but the minimisation did not end normally: it
-  // diverged (the lowest-energy state seen was kept) or self-intersections remain.
+  // Set when the patch was kept but the minimisation did not end normally (it
+  // diverged: the lowest-energy state seen was kept; a time limit stopped it),
+  // or when the fill crosses itself, the rest of the mesh or an obstacle.
   std::string warning;
   StageSeconds seconds;
   Flattening flattening_fit;  // uv left empty
@@ -68,7 +78,14 @@ struct HoleReport {
   double gaussian_mean_abs_after_arap = 0, gaussian_variance_after_arap = 0;
   double gaussian_mean_abs_final = 0, gaussian_variance_final = 0;
   double edge_length_rms_rel_after_arap = 0, edge_length_rms_rel_final = 0;
-  int self_intersections = 0;
+  // Measured on the output, after stitching (see measure_crossings).
+  Crossings crossings;
+  int self_intersections = 0;  // crossings.total()
+  // The smallest distance, in units of length_scale, from the hole's new faces
+  // to the faces of the output that share no vertex with them and to the
+  // obstacles: 0 where they touch or cross; at most kCrossingReach (nothing
+  // nearer).
+  double min_distance = 0;
   double repulsion = 0;  // the repulsion weight the patch was minimised with
   // The bending weight the patch was finally minimised with: the one asked
   // for, or a stiffer one when that one's patch intersected itself.
@@ -84,10 +101,11 @@ struct HoleReport {
 
 struct FillReport {
   std::vector<HoleReport> holes;
-  bool cancelled = false;      // the progress callback returned false
-  double seconds_prepare = 0;  // the mesh's vertex-face incidence, built once for all holes
-  double seconds_holes = 0;    // wall time of filling the holes (in parallel)
-  double seconds_stitch = 0;   // appending the patches to the mesh
+  bool cancelled = false;        // the progress callback returned false
+  double seconds_prepare = 0;    // the mesh's vertex-face incidence, built once for all holes
+  double seconds_holes = 0;      // wall time of filling the holes (in parallel)
+  double seconds_stitch = 0;     // appending the patches to the mesh
+  double seconds_crossings = 0;  // measuring the crossings of the output
   double seconds_total = 0;
 };
 
@@ -126,5 +144,33 @@ FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
 FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options = {},
                       const std::string& source = "mesh");
+
+// How far from the patch HoleReport::min_distance looks, in units of the
+// hole's length scale: the faces of the output that come nearer to the
+// patch's bounding box than this are the only ones looked at.
+constexpr double kCrossingReach = 2;
+// A sphere, cylinder or plane is crossed where a face reaches inside it
+// deeper than this, in units of the hole's length scale: the rounding of the
+// vertices the solver leaves on its surface is not a crossing.
+constexpr double kObstacleTolerance = 1e-9;
+
+// Measures the crossings and min_distance of each filled hole of `report` on
+// the output `mesh`, whose faces `patch_faces[k]` (ascending) are the new
+// faces of report.holes[k]; sets self_intersections to their total and, where
+// it is not 0, adds to the hole's warning "SOURCE: loop ID: the fill crosses
+// itself, the rest of the mesh and an obstacle (patch_patch 1, patch_mesh 10,
+// patch_obstacles 2)" (naming the counts that are not 0). patch_mesh counts
+// the pairs of a new face and any other face of `mesh` (faces of the input
+// anywhere, the strip around the hole, the other holes' patches) that
+// intersect by the rules of count_self_intersections: faces that share a
+// vertex or an edge only when they intersect beyond it. patch_obstacles
+// counts the new faces that cross into an obstacle (see crosses(), with
+// kObstacleTolerance times the length scale). The work follows the holes: one
+// pass over the faces finds those near each patch, and the pairs are found in
+// a grid over those alone (count_subset_crossings). Holes are measured in
+// parallel; the result does not depend on the thread count.
+void measure_crossings(const Mesh& mesh, const std::vector<std::vector<int>>& patch_faces,
+                       const std::vector<Obstacle>& obstacles, const std::string& source,
+                       FillReport& report);
 
 }  // namespace foldfill

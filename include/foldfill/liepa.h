@@ -12,9 +12,12 @@
 namespace foldfill {
 
 // Fills the loops `fill_ids` of `loops` the smooth way. Reports per hole the
-// counts, the total time and whether the fairing succeeded (a hole whose
-// fairing fails keeps its refined triangulation).
+// counts, the total time, whether the fairing succeeded (a hole whose
+// fairing fails keeps its refined triangulation), the loop's mean edge length
+// as length scale, and the crossings of the output (measure_crossings;
+// `obstacles` are measured against, not avoided).
 FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
-                            const std::vector<int>& fill_ids, const std::string& source = "mesh");
+                            const std::vector<int>& fill_ids, const std::string& source = "mesh",
+                            const std::vector<Obstacle>& obstacles = {});
 
 }  // namespace foldfill

@@ -28,6 +28,43 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
 int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                              int counted_from = 0);
 
+// The intersecting pairs of faces with at least one face in `subset` (by the
+// rules of count_self_intersections; a degenerate face of `subset` counts
+// once, among `within`), and the distance from `subset` to the faces near it.
+struct SubsetCrossings {
+  int within = 0;       // pairs of faces both in `subset`
+  int with_others = 0;  // pairs of a face of `subset` and one not in it
+  // The smallest distance between a face of `subset` and a face that shares
+  // no vertex with it (0 where such faces intersect), or `reach` when none is
+  // nearer than that. Degenerate faces have no distance.
+  double min_distance = 0;
+  int faces_examined = 0;  // faces tested: those near `subset`, `subset`'s own included
+};
+// `subset`: indices into `faces`, ascending. Only the faces whose bounding
+// boxes come within `reach` (>= 0) of the bounding box of `subset` are
+// looked at: those of `nearby` when given (ascending, from faces_near_boxes:
+// a superset of them), or else found in one pass over `faces`. The pairs
+// are found through a grid over those faces alone, as in
+// count_self_intersections, so that the work follows the size of `subset`
+// and of its neighbourhood, not the mesh's.
+SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
+                                       const std::vector<Tri>& faces,
+                                       const std::vector<int>& subset, double reach,
+                                       const std::vector<int>* nearby = nullptr);
+
+// An axis-aligned box, corners low and high.
+struct Box3 {
+  Vec3 low{}, high{};
+};
+// The bounding box of the faces `subset` of `faces`, grown by `margin` on every side.
+Box3 bounding_box(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                  const std::vector<int>& subset, double margin);
+// For each box, the faces whose bounding boxes overlap it (closed boxes),
+// ascending: one pass over `faces`, each looked up in a grid over the boxes.
+std::vector<std::vector<int>> faces_near_boxes(const std::vector<Vec3>& positions,
+                                               const std::vector<Tri>& faces,
+                                               const std::vector<Box3>& boxes);
+
 // Whether two faces that share no vertex intersect, one of them of index >=
 // `counted_from`: the surface passes through itself (by the test of
 // count_self_intersections; degenerate faces and neighbours folded onto each

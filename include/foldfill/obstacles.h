@@ -1,6 +1,9 @@
-// Rigid obstacles the patch must stay outside of (spheres, cylinders, planes).
+// Rigid obstacles the patch must stay outside of: spheres, cylinders, planes
+// and triangle meshes (a body, a table).
 #pragma once
 
+#include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -8,22 +11,78 @@
 
 namespace foldfill {
 
+// A triangle mesh as an obstacle, with the search structures its queries
+// need (built once, then only read: queries from several threads are safe).
+//
+// Inside and outside: a closed mesh (every edge has two faces) bounds a
+// solid, its inside, whatever the orientation of its faces (they are
+// oriented to bound it). An open mesh has no inside: the side its face
+// normals point to (faces counter-clockwise seen from the front) is taken as
+// outside, the other as inside, judged at the nearest point of the surface
+// (with the angle-weighted normal where that is an edge or a corner), so
+// that a surface open at a few places (a scanned body) acts as closed away
+// from them; a point behind an open sheet is pushed to its front, however far.
+// The mesh must not intersect itself. Distances are exact up to rounding (the
+// nearest point through CGAL's AABB tree); which side a point within 1e-7 of
+// the mesh's bounding-box diagonal lies on is decided by exact predicates
+// (CGAL's Side_of_triangle_mesh when closed, the orientation of the nearest
+// face when open).
+class ObstacleMesh {
+ public:
+  // Throws Error(NonManifold, "SOURCE: problem") for a mesh CGAL cannot build
+  // a surface from (an edge with more than two faces, faces oriented
+  // inconsistently); the mesh must have faces and finite positions, as
+  // read_mesh makes sure.
+  ObstacleMesh(Mesh mesh, std::string source);
+  ~ObstacleMesh();
+  ObstacleMesh(const ObstacleMesh&) = delete;
+  ObstacleMesh& operator=(const ObstacleMesh&) = delete;
+
+  const Mesh& mesh() const { return mesh_; }  // faces oriented outwards when closed
+  const std::string& source() const { return source_; }
+  bool closed() const;
+
+  // As the functions of the same names below.
+  double signed_distance(const Vec3& p) const;
+  Vec3 outward_normal(const Vec3& p) const;
+  bool farther_than(const Vec3& p, double gap) const;
+  bool push_outside(Vec3& p) const;
+  bool crosses(const std::array<Vec3, 3>& triangle) const;
+  double distance(const std::array<Vec3, 3>& triangle, double limit) const;
+
+  struct Search;  // the CGAL structures (src/obstacle_mesh.cpp)
+
+ private:
+  Mesh mesh_;
+  std::string source_;
+  std::unique_ptr<const Search> search_;
+};
+
 struct Obstacle {
-  enum class Type { Sphere, Cylinder, Plane };
+  enum class Type { Sphere, Cylinder, Plane, Mesh };
   Type type = Type::Sphere;
   Vec3 center{};         // sphere, cylinder (centre of the axis segment); plane: a point on it
   double radius = 0;     // sphere, cylinder
   double height = 0;     // cylinder: length of the axis segment
   Vec3 axis{0, 1, 0};    // cylinder: unit axis
   Vec3 normal{0, 0, 1};  // plane: unit normal, pointing to the allowed side
+  std::shared_ptr<const ObstacleMesh> mesh;  // mesh: its triangles, in the same units
 };
+
+// A mesh obstacle of `mesh` (see ObstacleMesh; `source` names it in messages).
+Obstacle mesh_obstacle(Mesh mesh, const std::string& source);
+// The mesh obstacle of the file `path`, read with read_mesh (and its errors).
+Obstacle read_mesh_obstacle(const std::string& path);
 
 // Parses obstacles from text: either JSON `{"obstacles": [...]}` with entries
 // {"type": "sphere", "center", "radius"}, {"type": "cylinder", "center",
 // "radius", "height", "euler_zxz": [psi, phi, theta]} (axis = Rz(psi) Rx(theta)
-// Rz(phi) (0,1,0)) or "axis": [x,y,z], {"type": "plane", "point", "normal"};
-// or the prototype's text lines `sphere x y z r` / `cylinder x y z r h a1 a2 a3`.
-// Throws Error(Usage) naming `source` for malformed input.
+// Rz(phi) (0,1,0)) or "axis": [x,y,z], {"type": "plane", "point", "normal"},
+// {"type": "mesh", "file": "body.obj"} (a path relative to the folder of
+// `source`, read by read_mesh_obstacle); or the prototype's text lines
+// `sphere x y z r` / `cylinder x y z r h a1 a2 a3`. Throws Error(Usage)
+// naming `source` for malformed input, and the errors of read_mesh for a
+// mesh file that cannot be read.
 std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string& source);
 std::vector<Obstacle> read_obstacles(const std::string& path);
 
@@ -43,10 +102,28 @@ Vec3 outward_normal(const Obstacle& obstacle, const Vec3& p);
 bool farther_than(const Obstacle& obstacle, const Vec3& p, double gap);
 
 // Moves `p` to the nearest point of the surface when it is inside; returns
-// whether it moved.
+// whether it moved. A mesh obstacle also moves a point on its surface, and
+// puts it just outside, 1e-9 of its bounding-box diagonal off the surface
+// (more where that is not yet outside by the exact test): so that a patch
+// resting on it does not touch its triangles.
 bool push_outside(const Obstacle& obstacle, Vec3& p);
 
-// The obstacle in normalised coordinates (p - origin) / scale.
+// The obstacle in normalised coordinates (p - origin) / scale (a mesh
+// obstacle's mesh moved and scaled, and its search structures built anew).
 Obstacle normalized(const Obstacle& obstacle, const Vec3& origin, double scale);
+
+// Whether the triangle crosses into the obstacle. Sphere, cylinder, plane: it
+// reaches inside deeper than `tolerance` (>= 0), the rounding of a point left
+// on the surface by push_outside (its smallest signed distance is below
+// -tolerance; the cylinder's, a convex function, is minimised over the
+// triangle by nested golden-section searches). Mesh: the triangle intersects
+// one of the mesh's (CGAL's exact test), or has a corner inside a closed one;
+// `tolerance` is not used.
+bool crosses(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double tolerance);
+
+// The distance from the triangle to the obstacle, 0 where it crosses into it
+// (see crosses, with no tolerance), and `limit` where it is farther than
+// `limit` (which saves work).
+double distance(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double limit);
 
 }  // namespace foldfill
