@@ -169,8 +169,8 @@ class CollisionBroadPhase {
 // point_triangle_ccd). The candidates must cover the step: found with the
 // displacements (swept boxes), or within a distance above twice the largest
 // displacement (a pair's distance falls at most by the moves of its two
-// primitives). t_max for no pair. In parallel; the result does not depend on
-// the thread count.
+// primitives). Fixed vertices' displacements are ignored. t_max for no pair.
+// In parallel; the result does not depend on the thread count.
 double collision_step_bound(const CollisionMesh& mesh, const double* positions,
                             const double* displacements, const CollisionCandidates& candidates,
                             const CcdOptions& options = {});
