@@ -1182,6 +1182,11 @@ TEST(KeepCandidatesWithin, KeepsExactlyTheClosePairs) {
   }
   EXPECT_EQ(candidates.point_triangle, pt);
   EXPECT_EQ(candidates.edge_edge, ee);
+  // The same in one pass.
+  CollisionCandidates within;
+  broad.find_within(flat(layers.positions), distance, within);
+  EXPECT_EQ(within.point_triangle, pt);
+  EXPECT_EQ(within.edge_edge, ee);
   // The barrier needs no more than these.
   const double kept = barrier_potential(layers.mesh, flat(x), candidates, distance);
   EXPECT_NEAR(kept, barrier_potential(layers.mesh, flat(x), all, distance), 1e-14 * kept);

@@ -141,12 +141,20 @@ class CollisionBroadPhase {
   // `candidates` is overwritten; its vectors keep their capacity.
   void find(const double* positions, const double* displacements, double distance,
             CollisionCandidates& candidates);
+  // The candidate pairs closer than `distance` at `positions`, exactly:
+  // find(positions, nullptr, distance) then keep_candidates_within, in one
+  // pass that keeps only the close pairs.
+  void find_within(const double* positions, double distance, CollisionCandidates& candidates);
 
   const CollisionMesh& mesh() const { return mesh_; }
 
  private:
   void moving_boxes(const double* positions, const double* displacements);
   void update_trees();
+  template <typename KeepPointTriangle, typename KeepEdgeEdge>
+  void search(const double* positions, const double* displacements, double distance,
+              const KeepPointTriangle& keep_pt, const KeepEdgeEdge& keep_ee,
+              CollisionCandidates& candidates);
 
   CollisionMesh mesh_;
   // Mesh indices of the static and moving edges and faces (vertices are
@@ -193,11 +201,11 @@ void keep_candidates_within(const CollisionMesh& mesh, const double* positions, 
 
 // Use in a minimisation that must stay intersection-free (from a start where
 // every pair is at a positive distance), with a thickness dhat and a skin:
-// - the barrier's pairs: find(x0, nullptr, dhat + skin) then
-//   keep_candidates_within(x0, dhat + skin). While every vertex stays within
-//   skin / 2 of x0, every pair closer than dhat is in the list (a pair at
-//   dhat + skin or more at x0 stays at dhat or more), so barrier_potential
-//   over it is the barrier over all pairs; search again past that.
+// - the barrier's pairs: find_within(x0, dhat + skin). While every vertex
+//   stays within skin / 2 of x0, every pair closer than dhat is in the list
+//   (a pair at dhat + skin or more at x0 stays at dhat or more), so
+//   barrier_potential over it is the barrier over all pairs; search again
+//   past that.
 // - each step x + a dx: t = collision_step_bound over find(x, dx, 0) (swept
 //   boxes), then a line search over a in (0, t] only. When x + t dx also
 //   stays within skin / 2 of x0, the barrier's list covers the step as well
