@@ -58,13 +58,14 @@ double barrier_of_squared(double d2, double dhat, double* derivative = nullptr);
 // x + t dx for t in [0, t_max].
 
 struct CcdOptions {
-  // s: the time of impact is taken where the distance would fall below s
-  // times the distance at t = 0 (the first step goes (1 - s) of the way).
+  // s in (0, 1): the time of impact is taken where the distance would fall
+  // below s times the distance at t = 0 (the first step goes (1 - s) of the
+  // way).
   double gap = 0.1;
-  // Steps after the first advance by this fraction of the distance over the
-  // bound on the relative speed (0.9 in the paper).
+  // In (0, 1): steps after the first advance by this fraction of the
+  // distance over the bound on the relative speed (0.9 in the paper).
   double rescaling = 0.9;
-  double t_max = 1;
+  double t_max = 1;  // >= 0
   // Iterations before giving up with the time reached so far (a valid,
   // conservative answer); a pair needs many only when it slides along at a
   // distance small against its relative motion.
@@ -75,11 +76,12 @@ struct CcdOptions {
 // Contact", algorithm 1): a time of impact toi in [0, t_max] such that the
 // pair's distance stays positive on [0, toi]: at least (1 - rescaling) * gap
 // times its distance at t = 0 everywhere, and at least gap times that at toi
-// itself when toi < t_max (up to rounding in the distance). t_max when the
-// pair cannot come that close on [0, t_max] (also when it does not move
-// relative to itself); 0 when it starts in contact. The result is min(toi
-// for an unbounded t_max, t_max): lowering t_max never changes a time below
-// it, so that a minimum over many pairs may shrink t_max as it goes.
+// itself when toi < t_max (up to rounding in the distance). t_max when its
+// steps pass t_max before the distance falls below gap times its start (in
+// particular when the pair does not move relative to itself); 0 when it
+// starts in contact. The result is min(toi for an unbounded t_max, t_max):
+// lowering t_max never changes a time below it, so that a minimum over many
+// pairs may shrink t_max as it goes.
 //
 // The point p against the triangle (a, b, c), moving by dp, da, db, dc.
 double point_triangle_ccd(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
