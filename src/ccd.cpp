@@ -106,6 +106,9 @@ double collision_step_bound(const CollisionMesh& mesh, const double* positions,
     const double* p = array + 3 * static_cast<ptrdiff_t>(v);
     return Vec3{p[0], p[1], p[2]};
   };
+  // Fixed vertices stay where they are, whatever `displacements` says.
+  const int fixed = mesh.fixed_count;
+  const auto move = [&](int v) { return v < fixed ? Vec3{0, 0, 0} : at(displacements, v); };
   const long pt_count = static_cast<long>(candidates.point_triangle.size());
   const long total = pt_count + static_cast<long>(candidates.edge_edge.size());
   double bound = options.t_max;
@@ -119,16 +122,15 @@ double collision_step_bound(const CollisionMesh& mesh, const double* positions,
         const IndexPair& pair = candidates.point_triangle[k];
         const Tri& f = mesh.faces[pair[1]];
         toi = point_triangle_ccd(at(positions, pair[0]), at(positions, f[0]), at(positions, f[1]),
-                                 at(positions, f[2]), at(displacements, pair[0]),
-                                 at(displacements, f[0]), at(displacements, f[1]),
-                                 at(displacements, f[2]), local);
+                                 at(positions, f[2]), move(pair[0]), move(f[0]), move(f[1]),
+                                 move(f[2]), local);
       } else {
         const IndexPair& pair = candidates.edge_edge[k - pt_count];
         const auto& e = mesh.edges[pair[0]];
         const auto& g = mesh.edges[pair[1]];
         toi = edge_edge_ccd(at(positions, e[0]), at(positions, e[1]), at(positions, g[0]),
-                            at(positions, g[1]), at(displacements, e[0]), at(displacements, e[1]),
-                            at(displacements, g[0]), at(displacements, g[1]), local);
+                            at(positions, g[1]), move(e[0]), move(e[1]), move(g[0]), move(g[1]),
+                            local);
       }
       local.t_max = std::min(local.t_max, toi);
     }

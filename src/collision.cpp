@@ -182,9 +182,12 @@ void CollisionBroadPhase::update_trees() {
 // Five searches, each split into parts spread over threads: moving points
 // against the static and the moving faces, moving faces against the static
 // points, moving edges against the static and the moving edges. Each pair is
-// found once, then all are sorted.
-void CollisionBroadPhase::find(const double* positions, const double* displacements,
-                               double distance, CollisionCandidates& candidates) {
+// found once, kept when `keep_pt(vertex, face)` / `keep_ee(edge, edge)` say
+// so, then all are sorted.
+template <typename KeepPointTriangle, typename KeepEdgeEdge>
+void CollisionBroadPhase::search(const double* positions, const double* displacements,
+                                 double distance, const KeepPointTriangle& keep_pt,
+                                 const KeepEdgeEdge& keep_ee, CollisionCandidates& candidates) {
   moving_boxes(positions, displacements);
   update_trees();
   const int threads = omp_get_max_threads();
@@ -212,34 +215,32 @@ void CollisionBroadPhase::find(const double* positions, const double* displaceme
     std::vector<IndexPair>& ee = edge_edge_parts_[omp_get_thread_num()];
     const auto& faces = mesh_.faces;
     const auto& edges = mesh_.edges;
+    const auto point_face = [&](int v, int face) {
+      if (!has_vertex(faces[face], v) && keep_pt(v, face)) pt.push_back({v, face});
+    };
     const auto edge_pair = [&](int e, int h) {
-      if (!share_vertex(edges[e], edges[h])) ee.push_back({std::min(e, h), std::max(e, h)});
+      if (!share_vertex(edges[e], edges[h]) && keep_ee(e, h)) {
+        ee.push_back({std::min(e, h), std::max(e, h)});
+      }
     };
 #pragma omp for schedule(dynamic, 1)
     for (int item = 0; item < total; ++item) {
       const BoxTree::SearchPart& part = parts_[work_[item][0]][work_[item][1]];
       switch (work_[item][0]) {
         case 0:
-          moving_points_.for_each_meeting_pair(part, static_face_tree_, distance,
-                                               [&](int p, int f) {
-                                                 pt.push_back({fixed + p, static_faces_[f]});
-                                               });
+          moving_points_.for_each_meeting_pair(
+              part, static_face_tree_, distance,
+              [&](int p, int f) { point_face(fixed + p, static_faces_[f]); });
           break;
         case 1:
-          moving_points_.for_each_meeting_pair(part, moving_face_tree_, distance,
-                                               [&](int p, int f) {
-                                                 const int v = fixed + p, face = moving_faces_[f];
-                                                 if (!has_vertex(faces[face], v))
-                                                   pt.push_back({v, face});
-                                               });
+          moving_points_.for_each_meeting_pair(
+              part, moving_face_tree_, distance,
+              [&](int p, int f) { point_face(fixed + p, moving_faces_[f]); });
           break;
         case 2:
-          moving_face_tree_.for_each_meeting_pair(part, static_points_, distance,
-                                                  [&](int f, int v) {
-                                                    const int face = moving_faces_[f];
-                                                    if (!has_vertex(faces[face], v))
-                                                      pt.push_back({v, face});
-                                                  });
+          moving_face_tree_.for_each_meeting_pair(
+              part, static_points_, distance,
+              [&](int f, int v) { point_face(v, moving_faces_[f]); });
           break;
         case 3:
           moving_edge_tree_.for_each_meeting_pair(
@@ -256,6 +257,31 @@ void CollisionBroadPhase::find(const double* positions, const double* displaceme
                    sort_scratch_);
   sort_index_pairs(edge_edge_parts_, static_cast<int>(mesh_.edges.size()), candidates.edge_edge,
                    sort_scratch_);
+}
+
+void CollisionBroadPhase::find(const double* positions, const double* displacements,
+                               double distance, CollisionCandidates& candidates) {
+  const auto all = [](int, int) { return true; };
+  search(positions, displacements, distance, all, all, candidates);
+}
+
+void CollisionBroadPhase::find_within(const double* positions, double distance,
+                                      CollisionCandidates& candidates) {
+  const double distance_sq = distance * distance;
+  const auto& faces = mesh_.faces;
+  const auto& edges = mesh_.edges;
+  const auto near_pt = [&](int v, int face) {
+    const Tri& f = faces[face];
+    return point_triangle_distance_squared(vec(positions, v), vec(positions, f[0]),
+                                           vec(positions, f[1]),
+                                           vec(positions, f[2])) < distance_sq;
+  };
+  const auto near_ee = [&](int e, int h) {
+    const auto &a = edges[e], &b = edges[h];
+    return edge_edge_distance_squared(vec(positions, a[0]), vec(positions, a[1]),
+                                      vec(positions, b[0]), vec(positions, b[1])) < distance_sq;
+  };
+  search(positions, nullptr, distance, near_pt, near_ee, candidates);
 }
 
 namespace {

@@ -58,13 +58,14 @@ double barrier_of_squared(double d2, double dhat, double* derivative = nullptr);
 // x + t dx for t in [0, t_max].
 
 struct CcdOptions {
-  // s: the time of impact is taken where the distance would fall below s
-  // times the distance at t = 0 (the first step goes (1 - s) of the way).
+  // s in (0, 1): the time of impact is taken where the distance would fall
+  // below s times the distance at t = 0 (the first step goes (1 - s) of the
+  // way).
   double gap = 0.1;
-  // Steps after the first advance by this fraction of the distance over the
-  // bound on the relative speed (0.9 in the paper).
+  // In (0, 1): steps after the first advance by this fraction of the
+  // distance over the bound on the relative speed (0.9 in the paper).
   double rescaling = 0.9;
-  double t_max = 1;
+  double t_max = 1;  // >= 0
   // Iterations before giving up with the time reached so far (a valid,
   // conservative answer); a pair needs many only when it slides along at a
   // distance small against its relative motion.
@@ -75,11 +76,12 @@ struct CcdOptions {
 // Contact", algorithm 1): a time of impact toi in [0, t_max] such that the
 // pair's distance stays positive on [0, toi]: at least (1 - rescaling) * gap
 // times its distance at t = 0 everywhere, and at least gap times that at toi
-// itself when toi < t_max (up to rounding in the distance). t_max when the
-// pair cannot come that close on [0, t_max] (also when it does not move
-// relative to itself); 0 when it starts in contact. The result is min(toi
-// for an unbounded t_max, t_max): lowering t_max never changes a time below
-// it, so that a minimum over many pairs may shrink t_max as it goes.
+// itself when toi < t_max (up to rounding in the distance). t_max when its
+// steps pass t_max before the distance falls below gap times its start (in
+// particular when the pair does not move relative to itself); 0 when it
+// starts in contact. The result is min(toi for an unbounded t_max, t_max):
+// lowering t_max never changes a time below it, so that a minimum over many
+// pairs may shrink t_max as it goes.
 //
 // The point p against the triangle (a, b, c), moving by dp, da, db, dc.
 double point_triangle_ccd(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
@@ -141,12 +143,20 @@ class CollisionBroadPhase {
   // `candidates` is overwritten; its vectors keep their capacity.
   void find(const double* positions, const double* displacements, double distance,
             CollisionCandidates& candidates);
+  // The candidate pairs closer than `distance` at `positions`, exactly:
+  // find(positions, nullptr, distance) then keep_candidates_within, in one
+  // pass that keeps only the close pairs.
+  void find_within(const double* positions, double distance, CollisionCandidates& candidates);
 
   const CollisionMesh& mesh() const { return mesh_; }
 
  private:
   void moving_boxes(const double* positions, const double* displacements);
   void update_trees();
+  template <typename KeepPointTriangle, typename KeepEdgeEdge>
+  void search(const double* positions, const double* displacements, double distance,
+              const KeepPointTriangle& keep_pt, const KeepEdgeEdge& keep_ee,
+              CollisionCandidates& candidates);
 
   CollisionMesh mesh_;
   // Mesh indices of the static and moving edges and faces (vertices are
@@ -169,8 +179,8 @@ class CollisionBroadPhase {
 // point_triangle_ccd). The candidates must cover the step: found with the
 // displacements (swept boxes), or within a distance above twice the largest
 // displacement (a pair's distance falls at most by the moves of its two
-// primitives). t_max for no pair. In parallel; the result does not depend on
-// the thread count.
+// primitives). Fixed vertices' displacements are ignored. t_max for no pair.
+// In parallel; the result does not depend on the thread count.
 double collision_step_bound(const CollisionMesh& mesh, const double* positions,
                             const double* displacements, const CollisionCandidates& candidates,
                             const CcdOptions& options = {});
@@ -193,11 +203,11 @@ void keep_candidates_within(const CollisionMesh& mesh, const double* positions, 
 
 // Use in a minimisation that must stay intersection-free (from a start where
 // every pair is at a positive distance), with a thickness dhat and a skin:
-// - the barrier's pairs: find(x0, nullptr, dhat + skin) then
-//   keep_candidates_within(x0, dhat + skin). While every vertex stays within
-//   skin / 2 of x0, every pair closer than dhat is in the list (a pair at
-//   dhat + skin or more at x0 stays at dhat or more), so barrier_potential
-//   over it is the barrier over all pairs; search again past that.
+// - the barrier's pairs: find_within(x0, dhat + skin). While every vertex
+//   stays within skin / 2 of x0, every pair closer than dhat is in the list
+//   (a pair at dhat + skin or more at x0 stays at dhat or more), so
+//   barrier_potential over it is the barrier over all pairs; search again
+//   past that.
 // - each step x + a dx: t = collision_step_bound over find(x, dx, 0) (swept
 //   boxes), then a line search over a in (0, t] only. When x + t dx also
 //   stays within skin / 2 of x0, the barrier's list covers the step as well
