@@ -2,15 +2,18 @@
 // CGAL's Liepa refine-and-fair, and measures both (and the truth, where there
 // is one) with the same figures: area put back, distance to the truth,
 // Gaussian and mean curvature against the surroundings and the truth, seam
-// dihedral angles, self-intersections, triangle quality. Cases: the cloth
-// cases of ../shared/data/cloth (truth: the removed faces), the reference
-// cases (no truth: intrinsic figures only) and developable sheets generated in
-// code (truth: the uncut sheet). Prints a markdown table and a summary against
-// the targets of issue 7; `--write-docs DIR` also writes one picture per case
-// into DIR/quality/ and the table into DIR/quality.md (between the generated
-// markers, so the hand-written text around it stays).
+// dihedral angles, crossings (of the patch with itself, with the rest of the
+// output and with the obstacles: measure_crossings), triangle quality. Cases:
+// the cloth cases of ../shared/data/cloth (truth: the removed faces), the
+// reference cases (no truth: intrinsic figures only), developable sheets
+// generated in code (truth: the uncut sheet) and generated layered cloth, a
+// hole near another layer of it (truth: the uncut cloth). Prints a markdown
+// table and a summary against the targets of issue 7; `--write-docs DIR` also
+// writes one picture per case into DIR/quality/ and the table into
+// DIR/quality.md (between the generated markers, so the hand-written text
+// around it stays).
 //
-//   build/bench/bench_quality [--write-docs docs] [--only cloth,reference,sheet]
+//   build/bench/bench_quality [--write-docs docs] [--only cloth,reference,sheet,layered]
 //                             [--lambda X] [--shrink X] [--density X] [--repulsion X]
 //                             [--summary-only]
 #include <omp.h>
@@ -25,6 +28,7 @@
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -80,7 +84,7 @@ struct Truth {
 };
 
 struct Case {
-  std::string name, group;  // group: cloth, reference or sheet
+  std::string name, group;  // group: cloth, reference, sheet or layered
   Mesh mesh;
   std::vector<BoundaryLoop> loops;
   int hole = -1;
@@ -106,7 +110,9 @@ struct Figures {
   double mean_abs_h = kNaN;                                          // 1 / h
   double fold_ratio = kNaN;
   double seam_mean_deg = kNaN, seam_max_deg = kNaN;
-  int self_intersections = -1;
+  int self_intersections = -1;  // pairs with a face of the patch: patch_patch + patch_mesh
+  Crossings crossings;
+  double min_distance = kNaN;  // h
   TriangleQuality quality;
   double seconds = kNaN;
 };
@@ -179,19 +185,26 @@ std::vector<Case> reference_cases(const fs::path& dir) {
   return cases;
 }
 
-// A developable sheet with a disk cut out of its flat domain around the flat
-// centroid. cut_disk_hole keeps the surviving vertices in order, so the map
-// back to the uncut sheet follows the (identical) positions.
-Case sheet_case(const std::string& name, const DevelopableMesh& sheet, double radius) {
+Vec2 flat_centroid(const DevelopableMesh& sheet) {
   Vec2 centre{0, 0};
   for (const Vec2& p : sheet.flat) {
     centre[0] += p[0] / sheet.flat.size();
     centre[1] += p[1] / sheet.flat.size();
   }
-  const CutMesh cut = cut_disk_hole(sheet, centre, radius);
+  return centre;
+}
+
+// A developable sheet with a disk cut out of its flat domain around `centre`
+// (the flat centroid when not given). cut_disk_hole keeps the surviving
+// vertices in order, so the map back to the uncut sheet follows the
+// (identical) positions.
+Case sheet_case(const std::string& name, const DevelopableMesh& sheet, double radius,
+                std::optional<Vec2> hole_centre = std::nullopt,
+                const std::string& group = "sheet") {
+  const CutMesh cut = cut_disk_hole(sheet, hole_centre.value_or(flat_centroid(sheet)), radius);
   Case c;
   c.name = name;
-  c.group = "sheet";
+  c.group = group;
   c.mesh = cut.cut.mesh;
   c.loops = find_boundary_loops(c.mesh, name);
   c.hole = select_holes(c.loops, HoleSelection{}, name).fill.at(0);
@@ -229,6 +242,187 @@ std::vector<Case> sheet_cases() {
   for (double r : {0.4, 0.8}) cases.push_back(sheet_case(format("folds6_r%.2f", r), folds6, r));
   for (double r : {0.4, 0.8}) cases.push_back(sheet_case(format("cylinder_r%.2f", r), cylinder, r));
   for (double r : {0.4, 0.8}) cases.push_back(sheet_case(format("cone_r%.2f", r), cone, r));
+  return cases;
+}
+
+// ---- Layered cloth --------------------------------------------------------------
+
+// Edge length of the layered cases, and the gap between their layers.
+constexpr double kLayerEdge = 0.05, kLayerGap = 1.5 * kLayerEdge;
+
+// A planar curve (x, z) made of straight pieces and circular arcs, walked from
+// a start point and heading.
+class Path {
+ public:
+  Path(Vec2 start, double heading) : points_{start}, heading_(heading) {}
+  // Straight on for `length`.
+  Path& line(double length) {
+    return walk(length, [&](double s) { return advance(s); });
+  }
+  // Along a circle of `radius`, turning by `angle` (positive: counter-clockwise).
+  Path& arc(double radius, double angle) {
+    return walk(
+        radius * std::abs(angle),
+        [&, radius, angle](double s) {
+          const double turned = angle * s / (radius * std::abs(angle));
+          // The chord of the arc so far, at the mean heading.
+          const double chord = 2 * radius * std::sin(std::abs(turned) / 2);
+          return Vec2{from_[0] + chord * std::cos(heading_ + turned / 2),
+                      from_[1] + chord * std::sin(heading_ + turned / 2)};
+        },
+        angle);
+  }
+  // The path (walked in steps of 1e-4) at equal arc-length steps of about `step`.
+  std::vector<Vec2> sampled(double step) const { return resample(points_, step); }
+
+  // Points of a polyline at equal arc-length steps of about `step`.
+  static std::vector<Vec2> resample(const std::vector<Vec2>& line, double step) {
+    std::vector<double> arc{0};
+    for (size_t k = 1; k < line.size(); ++k)
+      arc.push_back(arc.back() +
+                    std::hypot(line[k][0] - line[k - 1][0], line[k][1] - line[k - 1][1]));
+    const int segments = std::max(1, static_cast<int>(std::lround(arc.back() / step)));
+    std::vector<Vec2> result;
+    size_t k = 0;
+    for (int i = 0; i <= segments; ++i) {
+      const double at = arc.back() * i / segments;
+      while (k + 2 < arc.size() && arc[k + 1] < at) ++k;
+      const double t = arc[k + 1] > arc[k] ? (at - arc[k]) / (arc[k + 1] - arc[k]) : 0;
+      result.push_back({line[k][0] + t * (line[k + 1][0] - line[k][0]),
+                        line[k][1] + t * (line[k + 1][1] - line[k][1])});
+    }
+    return result;
+  }
+
+ private:
+  Vec2 advance(double s) const {
+    return {from_[0] + s * std::cos(heading_), from_[1] + s * std::sin(heading_)};
+  }
+  template <typename At>
+  Path& walk(double length, At at, double turn = 0) {
+    from_ = points_.back();
+    const int pieces = std::max(1, static_cast<int>(std::ceil(length / 1e-4)));
+    for (int k = 1; k <= pieces; ++k) points_.push_back(at(length * k / pieces));
+    heading_ += turn;
+    return *this;
+  }
+
+  std::vector<Vec2> points_;
+  double heading_;
+  Vec2 from_{};
+};
+
+// The curve at distance `offset` to the left of the polyline `line` (its
+// normals turned a quarter counter-clockwise from its direction).
+std::vector<Vec2> offset_curve(const std::vector<Vec2>& line, double offset) {
+  std::vector<Vec2> result;
+  for (size_t k = 0; k < line.size(); ++k) {
+    const Vec2& a = line[k == 0 ? 0 : k - 1];
+    const Vec2& b = line[k + 1 < line.size() ? k + 1 : k];
+    const double length = std::hypot(b[0] - a[0], b[1] - a[1]);
+    result.push_back({line[k][0] - offset * (b[1] - a[1]) / length,
+                      line[k][1] + offset * (b[0] - a[0]) / length});
+  }
+  return result;
+}
+
+// (a) A sheet folded over itself: the lower layer waves (troughs 0.15 deep,
+// 1 apart) from x = 3 to 0, a half circle of diameter kLayerGap turns it
+// over, and the upper layer runs back at kLayerGap from it all along (the
+// lower layer's offset curve). The hole is in the lower layer, in the
+// trough at x = 1.5: a fill flatter than the trough rises into the upper layer.
+Case u_fold_case() {
+  std::vector<Vec2> lower;
+  for (int k = 0; k <= 30000; ++k) {
+    const double x = 3.0 * (1 - k / 30000.0);
+    lower.push_back({x, 0.075 * (std::cos(2 * M_PI * x) - 1)});
+  }
+  // The lower layer runs to -x, so its left is down: the upper layer is its
+  // offset to the right, walked back.
+  std::vector<Vec2> upper = offset_curve(lower, -kLayerGap);
+  std::reverse(upper.begin(), upper.end());
+  Path bend({0, 0}, M_PI);
+  bend.arc(0.5 * kLayerGap, -M_PI);
+  std::vector<Vec2> profile = Path::resample(lower, kLayerEdge);
+  const std::vector<Vec2> turn = bend.sampled(kLayerEdge);
+  profile.insert(profile.end(), turn.begin() + 1, turn.end() - 1);
+  const std::vector<Vec2> back = Path::resample(upper, kLayerEdge);
+  profile.insert(profile.end(), back.begin(), back.end());
+  const DevelopableMesh sheet = make_profile_sheet(profile, 2.0, kLayerEdge);
+  // The hole around the lower layer's vertex nearest to the trough's bottom.
+  const Vec3 at{1.5, 1.0, -0.15};
+  int nearest = 0;
+  for (int v = 0; v < sheet.mesh.vertex_count(); ++v) {
+    const Vec3 &p = sheet.mesh.positions[v], &q = sheet.mesh.positions[nearest];
+    if (std::hypot(p[0] - at[0], p[1] - at[1], p[2] - at[2]) <
+        std::hypot(q[0] - at[0], q[1] - at[1], q[2] - at[2]))
+      nearest = v;
+  }
+  return sheet_case("ufold_r0.60", sheet, 0.6, sheet.flat[nearest], "layered");
+}
+
+// (b) A buckled sheet: flat, then a tall narrow pleat standing up (walls
+// kLayerGap apart, 0.6 high, with a tight half circle on top and fillets of
+// radius 0.1 at its foot), then flat again. One hole is beside the pleat's
+// foot, reaching over its fillet up its wall; another takes the pleat's top.
+std::vector<Case> pleat_cases() {
+  Path path({0, 0}, 0);
+  path.line(1.4)
+      .arc(0.1, M_PI / 2)
+      .line(0.5)
+      .arc(0.5 * kLayerGap, -M_PI)
+      .line(0.5)
+      .arc(0.1, M_PI / 2)
+      .line(1.4);
+  const DevelopableMesh sheet = make_profile_sheet(path.sampled(kLayerEdge), 2.0, kLayerEdge);
+  // Flat u: the foot's fillet from 1.4 to 1.557, the top's middle at 2.116.
+  return {sheet_case("pleat_foot_r0.50", sheet, 0.5, Vec2{1.5, 1.0}, "layered"),
+          sheet_case("pleat_top_r0.30", sheet, 0.3,
+                     Vec2{1.4 + M_PI * 0.05 + 0.5 + M_PI * kLayerGap / 4, 1.0}, "layered")};
+}
+
+// (c) Two separate sheets lying on one another: the folded sheet of three
+// folds (amplitude 0.25), with a hole in its middle trough, and above it, over
+// its middle, a second sheet of the same folds kLayerGap away (the first's
+// offset curve, extruded). The second sheet's flat coordinates are moved far
+// from the first's, so that the hole is cut from the first alone.
+Case two_sheets_case() {
+  DevelopableMesh sheets = make_folded_sheet();
+  // The profile: the first row of vertices (y = 0), one per column.
+  std::vector<Vec2> profile;
+  for (const Vec3& p : sheets.mesh.positions) {
+    if (p[1] != 0) break;
+    profile.push_back({p[0], p[2]});
+  }
+  std::vector<Vec2> above = offset_curve(profile, kLayerGap);
+  above.erase(std::remove_if(above.begin(), above.end(),
+                             [](const Vec2& p) { return p[0] < 1.0 || p[0] > 3.6; }),
+              above.end());
+  const DevelopableMesh cover =
+      make_profile_sheet(Path::resample(above, kLayerEdge), 2.0, kLayerEdge);
+  // The middle trough: the vertex of least z near x = 2.33, y = 1.5.
+  int trough = -1;
+  for (int v = 0; v < sheets.mesh.vertex_count(); ++v) {
+    const Vec3& p = sheets.mesh.positions[v];
+    if (std::abs(p[0] - 7.0 / 3) > 0.3 || std::abs(p[1] - 1.5) > 0.03) continue;
+    if (trough < 0 || p[2] < sheets.mesh.positions[trough][2]) trough = v;
+  }
+  const Vec2 hole = sheets.flat.at(trough);
+  const int first = sheets.mesh.vertex_count();
+  for (size_t v = 0; v < cover.flat.size(); ++v) {
+    const Vec3& p = cover.mesh.positions[v];
+    sheets.mesh.positions.push_back({p[0], p[1] + 0.5, p[2]});  // y in [0.5, 2.5]
+    sheets.flat.push_back({cover.flat[v][0] + 100, cover.flat[v][1]});
+  }
+  for (const Tri& f : cover.mesh.faces)
+    sheets.mesh.faces.push_back({f[0] + first, f[1] + first, f[2] + first});
+  return sheet_case("two_sheets_r0.60", sheets, 0.6, hole, "layered");
+}
+
+std::vector<Case> layered_cases() {
+  std::vector<Case> cases{u_fold_case()};
+  for (Case& c : pleat_cases()) cases.push_back(std::move(c));
+  cases.push_back(two_sheets_case());
   return cases;
 }
 
@@ -320,8 +514,17 @@ Figures measure(const std::string& method, const Case& c, const Filled& filled,
   }
   figures.seam_mean_deg = sum / seam.size() * 180 / M_PI;
   figures.seam_max_deg = largest * 180 / M_PI;
-  figures.self_intersections =
-      count_self_intersections(filled.mesh.positions, filled.mesh.faces, filled.first_patch_face);
+  // Crossings against the whole output, as fill_holes reports them.
+  FillReport report;
+  report.holes.resize(1);
+  report.holes[0].filled = true;
+  report.holes[0].length_scale = h;
+  std::vector<int> patch_indices(patch.size());
+  std::iota(patch_indices.begin(), patch_indices.end(), filled.first_patch_face);
+  measure_crossings(filled.mesh, {patch_indices}, c.options.obstacles, c.name, report);
+  figures.crossings = report.holes[0].crossings;
+  figures.min_distance = report.holes[0].min_distance;
+  figures.self_intersections = figures.crossings.patch_patch + figures.crossings.patch_mesh;
   figures.quality = triangle_quality(filled.mesh.positions, patch);
   return figures;
 }
@@ -482,25 +685,27 @@ std::string table(const std::vector<CaseResult>& results) {
   std::string out =
       "| case | method | area / removed | Hausdorff (h) | mean dist. (h) | mean \\|K\\| h² "
       "(ring) | \\|K\\| / ring's | mean \\|H\\| h (ring) | fold ratio | seam ° mean / max | "
-      "self-int. | min angle ° | < 20° | s |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "crossings patch / mesh / obstacles | min dist. (h) | min angle ° | < 20° | s |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const CaseResult& r : results) {
     for (const Figures& f : r.rows) {
       if (!f.failure.empty()) {
-        out += format("| %s | %s | failed: %s |||||||||||\n", r.name.c_str(), f.method.c_str(),
+        out += format("| %s | %s | failed: %s ||||||||||||\n", r.name.c_str(), f.method.c_str(),
                       f.failure.c_str());
         continue;
       }
       out += format(
-          "| %s | %s | %s | %s | %s | %s (%s) | %s | %s (%s) | %s | %s / %s | %d | %s | %s | %s "
-          "|\n",
+          "| %s | %s | %s | %s | %s | %s (%s) | %s | %s (%s) | %s | %s / %s | %d / %d / %d | %s | "
+          "%s "
+          "| %s | %s |\n",
           r.name.c_str(), f.method.c_str(), number(f.area_ratio, "%.3f").c_str(),
           number(f.hausdorff, "%.2f").c_str(), number(f.mean_distance, "%.2f").c_str(),
           number(f.mean_abs_k).c_str(), number(r.ring_abs_k).c_str(),
           number(curvature_ratio(f, r), "%.2f").c_str(), number(f.mean_abs_h).c_str(),
           number(r.ring_mean_abs_h).c_str(), number(f.fold_ratio, "%.2f").c_str(),
           number(f.seam_mean_deg, "%.1f").c_str(), number(f.seam_max_deg, "%.1f").c_str(),
-          f.self_intersections, number(f.quality.min_angle_deg, "%.1f").c_str(),
+          f.crossings.patch_patch, f.crossings.patch_mesh, f.crossings.patch_obstacles,
+          number(f.min_distance, "%.2f").c_str(), number(f.quality.min_angle_deg, "%.1f").c_str(),
           number(100 * f.quality.share_below_20deg, "%.0f %%").c_str(),
           number(f.seconds, "%.2f").c_str());
     }
@@ -530,6 +735,7 @@ struct Summary {
   int curvature_within = 0, curvature_cases = 0;  // patch mean |K| <= 1.5x the ring's
   int folds_above = 0;                            // cases with a fold ratio >= 0.7
   int self_intersections = 0;
+  Crossings crossings;      // summed over the cases
   double fill_seconds = 0;  // the fills' time, summed
   double median_curvature_ratio = kNaN;
   // Against the other method, cases with truth: closer to 1 (wins), or both
@@ -556,6 +762,9 @@ Summary summarize(const std::vector<CaseResult>& results, const std::string& met
     if (!f) continue;
     ++s.filled;
     s.self_intersections += f->self_intersections;
+    s.crossings.patch_patch += f->crossings.patch_patch;
+    s.crossings.patch_mesh += f->crossings.patch_mesh;
+    s.crossings.patch_obstacles += f->crossings.patch_obstacles;
     s.fill_seconds += f->seconds;
     if (!std::isnan(curvature_ratio(*f, r))) {
       ++s.curvature_cases;
@@ -630,6 +839,12 @@ std::string summary_table(const std::vector<CaseResult>& results) {
   out += line("self-intersecting pairs", format("%d", ours.self_intersections),
               format("%d", liepa.self_intersections), format("%d", truth.self_intersections), "0",
               verdict(ours.filled, ours.self_intersections == 0));
+  const auto crossings = [](const Summary& s) {
+    return format("%d / %d / %d", s.crossings.patch_patch, s.crossings.patch_mesh,
+                  s.crossings.patch_obstacles);
+  };
+  out += line("crossings patch / mesh / obstacles", crossings(ours), crossings(liepa),
+              crossings(truth), "0", verdict(ours.filled, ours.crossings.total() == 0));
   out +=
       line("area: wins / ties / losses", record(ours.wins_area, ours.ties_area, ours.truth_cases),
            record(liepa.wins_area, liepa.ties_area, liepa.truth_cases), "",
@@ -657,7 +872,7 @@ std::vector<CaseResult> group_of(const std::vector<CaseResult>& results, const s
 // The summary of each group of cases, then of all of them.
 std::string summaries(const std::vector<CaseResult>& results) {
   std::string out;
-  for (const char* group : {"cloth", "sheet", "reference"}) {
+  for (const char* group : {"cloth", "sheet", "layered", "reference"}) {
     const std::vector<CaseResult> members = group_of(results, group);
     if (members.empty() || members.size() == results.size()) continue;
     out += format("Summary of the %s cases:\n\n", group) + summary_table(members) + "\n";
@@ -673,16 +888,26 @@ std::string summary_row(const std::vector<CaseResult>& results, const FillOption
   const Summary cloth = summarize(group_of(results, "cloth"), "foldfill", "Liepa");
   const Summary sheet = summarize(group_of(results, "sheet"), "foldfill", "Liepa");
   const Summary reference = summarize(group_of(results, "reference"), "foldfill", "Liepa");
-  const int unfilled =
-      cloth.cases + sheet.cases + reference.cases - cloth.filled - sheet.filled - reference.filled;
+  const Summary layered = summarize(group_of(results, "layered"), "foldfill", "Liepa");
+  const int unfilled = cloth.cases + sheet.cases + reference.cases + layered.cases - cloth.filled -
+                       sheet.filled - reference.filled - layered.filled;
   auto per_group = [&](auto figure, const char* pattern) {
     std::string out;
     for (const Summary* s : {&cloth, &sheet, &reference})
       out += (out.empty() ? "" : " / ") + (s->cases ? format(pattern, figure(*s)) : "–");
     return out;
   };
+  // Crossings patch / mesh / obstacles of each group, the layered one included.
+  std::string crossings;
+  for (const Summary* s : {&cloth, &sheet, &layered, &reference}) {
+    crossings += (crossings.empty() ? "" : "; ") +
+                 (s->cases ? format("%d / %d / %d", s->crossings.patch_patch,
+                                    s->crossings.patch_mesh, s->crossings.patch_obstacles)
+                           : std::string("–"));
+  }
   return format(
-      "| %g | %g | %g | %g | %s | %s / %s / %s | %s | %s / %s | %s / %s | %d / %d | %s | %s |%s\n",
+      "| %g | %g | %g | %g | %s | %s / %s / %s | %s | %s / %s | %s / %s | %d / %d | %s | %s | %s "
+      "|%s\n",
       options.energy.lambda, options.arap.shrink, options.triangulate.density,
       options.energy.repulsion, number(100 * cloth.median_area_error, "%.1f %%").c_str(),
       number(cloth.min_fold, "%.2f").c_str(), number(cloth.median_fold, "%.2f").c_str(),
@@ -691,7 +916,7 @@ std::string summary_row(const std::vector<CaseResult>& results, const FillOption
       number(cloth.median_mean_distance, "%.2f").c_str(), number(sheet.min_fold, "%.2f").c_str(),
       number(sheet.max_fold, "%.2f").c_str(), reference.curvature_within, reference.curvature_cases,
       per_group([](const Summary& s) { return s.self_intersections; }, "%d").c_str(),
-      per_group([](const Summary& s) { return s.fill_seconds; }, "%.1f").c_str(),
+      per_group([](const Summary& s) { return s.fill_seconds; }, "%.1f").c_str(), crossings.c_str(),
       unfilled > 0 ? format(" **%d not filled**", unfilled).c_str() : "");
 }
 
@@ -728,7 +953,7 @@ void write_generated(const fs::path& path, const std::string& generated) {
 
 struct Settings {
   fs::path docs;
-  std::set<std::string> groups{"cloth", "reference", "sheet"};
+  std::set<std::string> groups{"cloth", "reference", "sheet", "layered"};
   FillOptions options;
   bool summary_only = false;
 };
@@ -768,10 +993,10 @@ bool parse(int argc, char** argv, Settings& settings) {
 int main(int argc, char** argv) {
   Settings settings;
   if (!parse(argc, argv, settings)) {
-    std::fprintf(
-        stderr,
-        "usage: bench_quality [--write-docs DIR] [--only cloth,reference,sheet] [--lambda X] "
-        "[--shrink X] [--density X] [--repulsion X] [--summary-only]\n");
+    std::fprintf(stderr,
+                 "usage: bench_quality [--write-docs DIR] [--only cloth,reference,sheet,layered] "
+                 "[--lambda X] "
+                 "[--shrink X] [--density X] [--repulsion X] [--summary-only]\n");
     return 2;
   }
   omp_set_num_threads(1);
@@ -786,6 +1011,10 @@ int main(int argc, char** argv) {
   if (settings.groups.count("sheet")) {
     std::vector<Case> sheets = sheet_cases();
     std::move(sheets.begin(), sheets.end(), std::back_inserter(cases));
+  }
+  if (settings.groups.count("layered")) {
+    std::vector<Case> layered = layered_cases();
+    std::move(layered.begin(), layered.end(), std::back_inserter(cases));
   }
   fs::path picture_dir;
   if (!settings.docs.empty()) {

@@ -657,6 +657,10 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
   // other overlap.
   std::vector<FaceBox> boxes, grown;
   std::vector<int> face_of;  // of each box
+  // The centroid of each box's face and the largest distance of a corner
+  // from it: what bounds the distance of two faces below, with box_gap.
+  std::vector<Vec3> centroid;
+  std::vector<double> spread;
   boxes.reserve(local.size());
   grown.reserve(local.size());
   face_of.reserve(local.size());
@@ -674,6 +678,13 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
     FaceBox face{box.low, box.high, static_cast<int>(boxes.size()), counted};
     boxes.push_back(face);
     face_of.push_back(f);
+    const geometry::Triangle corner = corners(positions, t);
+    Vec3 middle;
+    for (int c = 0; c < 3; ++c) middle[c] = (corner[0][c] + corner[1][c] + corner[2][c]) / 3;
+    double farthest = 0;
+    for (const Vec3& p : corner) farthest = std::max(farthest, norm(sub(p, middle)));
+    centroid.push_back(middle);
+    spread.push_back(farthest);
     for (int c = 0; c < 3; ++c) {
       face.low[c] -= 0.5 * reach;
       face.high[c] += 0.5 * reach;
@@ -689,7 +700,8 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
     if (best > 0 && !share_a_vertex(faces[f], faces[g])) {
       if (intersect) {
         best = 0;
-      } else if (box_gap(boxes[i], boxes[j]) < best) {
+      } else if (box_gap(boxes[i], boxes[j]) < best &&
+                 norm(sub(centroid[i], centroid[j])) - spread[i] - spread[j] < best) {
         best = std::min(best, geometry::disjoint_triangle_distance(corners(positions, faces[f]),
                                                                    corners(positions, faces[g])));
       }

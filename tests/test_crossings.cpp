@@ -213,6 +213,39 @@ TEST(Crossings, PairsWithinThePatchArePatchPatch) {
       << hole.warning;
 }
 
+// Another hole's patch is part of the mesh: the tent's second hole holds a
+// triangle through the tent; each hole counts the pairs with the other's.
+TEST(Crossings, AnotherHolesPatchIsPartOfTheMesh) {
+  TentScene scene = tent_under_a_quad();
+  Mesh& mesh = scene.mesh;
+  const int first = mesh.vertex_count();
+  mesh.positions.push_back({scene.apex[0] - 0.3 * kEdge, scene.apex[1] + 0.001, 3.5 * kGap});
+  mesh.positions.push_back({scene.apex[0] + 0.3 * kEdge, scene.apex[1] - 0.01, 3.5 * kGap});
+  mesh.positions.push_back({scene.apex[0] + 0.002, scene.apex[1] + 0.3 * kEdge, 3.6 * kGap});
+  const int other = mesh.face_count();
+  mesh.faces.push_back({first, first + 1, first + 2});
+  int expected = 0;
+  for (int f : scene.tent) expected += CGAL::do_intersect(triangle(mesh, f), triangle(mesh, other));
+  ASSERT_GT(expected, 0);
+  FillReport report;
+  for (int faces : {8, 1}) {
+    HoleReport hole;
+    hole.filled = true;
+    hole.loop_id = static_cast<int>(report.holes.size());
+    hole.length_scale = kEdge;
+    hole.patch_face_count = faces;
+    report.holes.push_back(hole);
+  }
+  measure_crossings(mesh, {scene.tent, {other}}, {}, "sheet.obj", report);
+  EXPECT_EQ(report.holes[0].crossings.patch_patch, 0);
+  EXPECT_EQ(report.holes[0].crossings.patch_mesh, 8 + expected);
+  EXPECT_EQ(report.holes[1].crossings.patch_patch, 0);
+  EXPECT_EQ(report.holes[1].crossings.patch_mesh, expected);
+  EXPECT_EQ(report.holes[1].warning,
+            "sheet.obj: loop 1: the fill crosses the rest of the mesh (patch_mesh " +
+                std::to_string(expected) + ")");
+}
+
 // The tent, alone, into obstacles: its apex inside a sphere (each face
 // reaches in), through a plane it must stay under, and across a thin
 // cylinder along x at three quarters of its height, which only the four

@@ -88,7 +88,9 @@ TEST(MeshObstacle, DistancesAndSidesOfABoxAreExact) {
       const Vec3 p{coordinate(random), coordinate(random), coordinate(random)};
       EXPECT_NEAR(signed_distance(box, p), box_distance(p), 1e-12)
           << p[0] << " " << p[1] << " " << p[2];
-      if (farther_than(box, p, 0.25)) EXPECT_GT(box_distance(p), 0.25);
+      if (farther_than(box, p, 0.25)) {
+        EXPECT_GT(box_distance(p), 0.25);
+      }
     }
     EXPECT_DOUBLE_EQ(signed_distance(box, {0.5, 0.5, 1.3}), 0.3);
     EXPECT_DOUBLE_EQ(signed_distance(box, {0.5, 0.4, 0.9}), -0.1);

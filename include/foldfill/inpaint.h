@@ -148,7 +148,7 @@ FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
 // How far from the patch HoleReport::min_distance looks, in units of the
 // hole's length scale: the faces of the output that come nearer to the
 // patch's bounding box than this are the only ones looked at.
-constexpr double kCrossingReach = 2;
+constexpr double kCrossingReach = 1;
 // A sphere, cylinder or plane is crossed where a face reaches inside it
 // deeper than this, in units of the hole's length scale: the rounding of the
 // vertices the solver leaves on its surface is not a crossing.
