@@ -1,10 +1,15 @@
 // Obstacles: parsing of both formats, malformed input, signed distances,
-// outward normals, the cheap distance test and projection to the surface.
+// outward normals, the cheap distance test, projection to the surface, and
+// tessellation near a box.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
@@ -378,6 +383,466 @@ TEST(Normalized, KeepsTheSignedDistanceConsistent) {
     }
   }
   EXPECT_THROW(normalized(obstacles[0], origin, 0), Error);
+}
+
+// ---- tessellate_obstacle ----
+
+Vec3 plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 times(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross3(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double length3(const Vec3& a) { return std::sqrt(dot3(a, a)); }
+Vec3 unit3(const Vec3& a) { return times(a, 1 / length3(a)); }
+
+Box3 cube_around(const Vec3& center, double half) {
+  return {minus(center, {half, half, half}), plus(center, {half, half, half})};
+}
+bool in_box(const Vec3& p, const Box3& box) {
+  for (int c = 0; c < 3; ++c)
+    if (p[c] < box.low[c] || p[c] > box.high[c]) return false;
+  return true;
+}
+
+// The largest value of dot(direction, x) over the obstacle shrunk by `inset`
+// (sphere or cylinder, convex): a face's plane with `direction` its normal
+// leaves the shrunk solid on its inner side where this is no more than its
+// offset.
+double shrunk_support(const Obstacle& o, double inset, const Vec3& direction) {
+  const double rho = o.radius - inset;
+  if (o.type == Obstacle::Type::Sphere) return dot3(direction, o.center) + rho;
+  const double along = dot3(direction, o.axis);
+  const double across = length3(minus(direction, times(o.axis, along)));
+  return dot3(direction, o.center) + (0.5 * o.height - inset) * std::abs(along) + rho * across;
+}
+
+// Where the ray from `origin` along the unit `direction` meets the triangle
+// (with a little slack at its edges, for rays through shared edges), or -1.
+double ray_hit(const Vec3& origin, const Vec3& direction, const std::array<Vec3, 3>& t) {
+  const Vec3 e1 = minus(t[1], t[0]), e2 = minus(t[2], t[0]);
+  const Vec3 p = cross3(direction, e2);
+  const double det = dot3(e1, p);
+  if (std::abs(det) < 1e-300) return -1;
+  const Vec3 s = minus(origin, t[0]);
+  const double u = dot3(s, p) / det;
+  const Vec3 q = cross3(s, e1);
+  const double v = dot3(direction, q) / det;
+  const double slack = 1e-9;
+  if (u < -slack || v < -slack || u + v > 1 + slack) return -1;
+  return dot3(e2, q) / det;
+}
+
+std::array<Vec3, 3> face_corners(const Mesh& mesh, int f) {
+  const Tri& t = mesh.faces[f];
+  return {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+}
+
+// Whether the ray from `origin` along `direction` meets a face at a distance
+// in [low, high].
+bool ray_meets_mesh(const Mesh& mesh, const Vec3& origin, const Vec3& direction, double low,
+                    double high) {
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const double t = ray_hit(origin, direction, face_corners(mesh, f));
+    if (t >= low && t <= high) return true;
+  }
+  return false;
+}
+
+// Points of the obstacle's surface shrunk by `inset` inside `box`, each with
+// the ray that is to meet the mesh there: from `origin` along `direction`,
+// the point `distance` along it.
+struct SurfaceSample {
+  Vec3 point, origin, direction;
+  double distance;
+};
+std::vector<SurfaceSample> shrunk_surface_samples(const Obstacle& o, double inset, const Box3& box,
+                                                  int tries) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<SurfaceSample> samples;
+  for (int k = 0; k < tries; ++k) {
+    Vec3 q;
+    for (int c = 0; c < 3; ++c) q[c] = box.low[c] + unit(random) * (box.high[c] - box.low[c]);
+    SurfaceSample s;
+    if (o.type == Obstacle::Type::Sphere) {
+      s.origin = o.center;
+      s.direction = unit3(minus(q, o.center));
+      s.distance = o.radius - inset;
+      s.point = plus(s.origin, times(s.direction, s.distance));
+    } else if (o.type == Obstacle::Type::Plane) {
+      s.point = minus(q, times(o.normal, dot3(minus(q, o.center), o.normal) + inset));
+      s.distance = 1 + length3(minus(box.high, box.low));
+      s.origin = plus(s.point, times(o.normal, s.distance));
+      s.direction = times(o.normal, -1);
+    } else {
+      const double half = 0.5 * o.height - inset, rho = o.radius - inset;
+      const Vec3 d = minus(q, o.center);
+      const double t = dot3(d, o.axis);
+      const Vec3 radial = minus(d, times(o.axis, t));
+      if (k % 2 == 0) {  // onto the side
+        if (std::abs(t) > half) continue;
+        s.origin = plus(o.center, times(o.axis, t));
+        s.direction = unit3(radial);
+        s.distance = rho;
+      } else {  // onto the nearer cap
+        const double r = length3(radial);
+        const Vec3 inside = r > rho ? times(radial, rho / r) : radial;
+        s.origin = plus(o.center, inside);
+        s.direction = times(o.axis, t < 0 ? -1 : 1);
+        s.distance = half;
+      }
+      s.point = plus(s.origin, times(s.direction, s.distance));
+    }
+    if (in_box(s.point, box)) samples.push_back(s);
+  }
+  return samples;
+}
+
+// The checks every tessellation must pass; returns the mesh. `scale`: the
+// size of the scene, for the rounding tolerance; `tries` points of the box
+// are projected to the shrunk surface for the coverage, and at least
+// `min_samples` of them must land inside the box.
+Mesh check_tessellation(const Obstacle& o, const Box3& box, double edge, double inset, double scale,
+                        int tries = 400, TessellationBounds* bounds_out = nullptr,
+                        int min_samples = 10) {
+  SCOPED_TRACE(::testing::Message() << "edge " << edge << ", inset " << inset);
+  TessellationBounds bounds;
+  const Mesh mesh = tessellate_obstacle(o, box, edge, inset, &bounds);
+  if (bounds_out) *bounds_out = bounds;
+  const double tolerance = 1e-12 * scale;
+  EXPECT_GE(bounds.edge_length, edge);
+  EXPECT_GE(bounds.gap, 0);
+  EXPECT_LE(bounds.gap, 0.25 * bounds.edge_length);
+  EXPECT_LE(mesh.face_count(), kMaxObstacleFaces);
+  for (const Tri& t : mesh.faces)
+    for (int v : t) EXPECT_TRUE(v >= 0 && v < mesh.vertex_count());
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const Box3 reach = {minus(box.low, {bounds.edge_length, bounds.edge_length, bounds.edge_length}),
+                      plus(box.high, {bounds.edge_length, bounds.edge_length, bounds.edge_length})};
+  double longest = 0;
+  for (int f = 0; f < mesh.face_count(); ++f) {
+    const auto corners = face_corners(mesh, f);
+    // (a) The face lies between the shrunk surface and `gap` beyond it.
+    for (int k = 0; k < 4; ++k) {
+      double a = unit(random), b = unit(random);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      const Vec3 p = k < 3 ? corners[k]
+                           : plus(corners[0], plus(times(minus(corners[1], corners[0]), a),
+                                                   times(minus(corners[2], corners[0]), b)));
+      const double d = signed_distance(o, p);
+      EXPECT_GE(d, -inset - tolerance) << "face " << f;
+      EXPECT_LE(d, bounds.gap - inset + tolerance) << "face " << f;
+    }
+    // (b) The shrunk solid is on the inner side of the face's plane, (c) which
+    // faces outwards.
+    const Vec3 normal = unit3(cross3(minus(corners[1], corners[0]), minus(corners[2], corners[0])));
+    const double offset = dot3(normal, corners[0]);
+    if (o.type == Obstacle::Type::Plane) {
+      EXPECT_NEAR(length3(minus(normal, o.normal)), 0, 1e-12);
+      EXPECT_NEAR(offset, dot3(o.normal, o.center) - inset, tolerance);
+    } else {
+      EXPECT_LE(shrunk_support(o, inset, normal), offset + tolerance) << "face " << f;
+      const Vec3 centroid = times(plus(plus(corners[0], corners[1]), corners[2]), 1.0 / 3);
+      EXPECT_GT(dot3(normal, minus(centroid, o.center)), 0) << "face " << f;
+    }
+    // (d) Near the box.
+    for (int c = 0; c < 3; ++c) {
+      const double low = std::min({corners[0][c], corners[1][c], corners[2][c]});
+      const double high = std::max({corners[0][c], corners[1][c], corners[2][c]});
+      EXPECT_TRUE(high >= reach.low[c] && low <= reach.high[c]) << "face " << f;
+    }
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, length3(minus(corners[(k + 1) % 3], corners[k])));
+  }
+  if (o.type != Obstacle::Type::Plane) {
+    EXPECT_LE(longest, 2 * bounds.edge_length);
+  }
+  // (d) The shrunk surface inside the box is covered.
+  const auto samples = shrunk_surface_samples(o, inset, box, tries);
+  EXPECT_GE(static_cast<int>(samples.size()), min_samples);
+  for (const SurfaceSample& s : samples) {
+    EXPECT_TRUE(ray_meets_mesh(mesh, s.origin, s.direction, s.distance - tolerance,
+                               s.distance + bounds.gap + tolerance))
+        << "uncovered point " << s.point[0] << " " << s.point[1] << " " << s.point[2];
+  }
+  return mesh;
+}
+
+// Whether every edge has two faces, which run along it in opposite
+// directions, and the surface is a sphere's (Euler characteristic 2).
+void expect_closed(const Mesh& mesh) {
+  std::map<std::array<int, 2>, int> directed;
+  for (const Tri& t : mesh.faces)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  int edges = 0;
+  for (const auto& [edge, count] : directed) {
+    EXPECT_EQ(count, 1) << "edge " << edge[0] << " " << edge[1] << " repeated";
+    EXPECT_EQ(directed.count({edge[1], edge[0]}), 1u)
+        << "edge " << edge[0] << " " << edge[1] << " without its twin";
+    ++edges;
+  }
+  EXPECT_EQ(mesh.vertex_count() - edges / 2 + mesh.face_count(), 2);
+}
+
+const Obstacle& tilted_cylinder() {
+  static const Obstacle c = cylinder({0.3, 0.1, -0.2}, 1.2, 3, unit3({0.2, 0.9, -0.3}));
+  return c;
+}
+
+// The cylinder's point at `t` along its axis, `r` from it at `angle`.
+Vec3 on_cylinder(const Obstacle& c, double t, double r, double angle) {
+  const Vec3 e1 = unit3(cross3(c.axis, {1, 0, 0})), e2 = cross3(c.axis, e1);
+  return plus(plus(c.center, times(c.axis, t)),
+              plus(times(e1, r * std::cos(angle)), times(e2, r * std::sin(angle))));
+}
+
+TEST(TessellateObstacle, SphereNearABoxContainsTheShrunkBall) {
+  const Obstacle ball = sphere({0.3, -0.2, 0.5}, 1.5);
+  // Across the surface where three faces of the cube meet, across the middle
+  // of a cube face, and inside the ball but for a corner.
+  const std::vector<Box3> boxes = {
+      cube_around(plus(ball.center, times(unit3({1, 1, 1}), 1.5)), 0.4),
+      cube_around(plus(ball.center, {0, 0, -1.5}), 0.3),
+      cube_around(plus(ball.center, {1.1, 0.7, 0.3}), 0.2)};
+  for (const Box3& box : boxes) {
+    for (double inset : {0.0, 0.05}) {
+      for (double edge : {0.04, 0.2, 1.0, 2.5, 8.0}) {
+        const Mesh mesh = check_tessellation(ball, box, edge, inset, 3);
+        EXPECT_GT(mesh.face_count(), 0);
+      }
+    }
+  }
+}
+
+TEST(TessellateObstacle, SphereInABoxAroundItIsClosed) {
+  const Obstacle ball = sphere({0.3, -0.2, 0.5}, 1.5);
+  const Box3 all = cube_around(ball.center, 2);
+  for (double edge : {0.1, 0.7, 3.0}) {
+    TessellationBounds bounds;
+    const Mesh mesh = check_tessellation(ball, all, edge, 0.1, 3, 200, &bounds);
+    expect_closed(mesh);
+    // Steps of about the edge length on the shrunk ball: 6 n^2 cells.
+    const int n = static_cast<int>(std::ceil(M_PI / 2 * 1.4 / edge));
+    if (edge < 1) {
+      EXPECT_EQ(mesh.face_count(), 12 * n * n);
+    }
+  }
+}
+
+TEST(TessellateObstacle, SphereGapIsAQuarterOfTheEdgeAtMost) {
+  // The gap bound, for edges from three hundredths to many times the radius: the
+  // grid is made finer than the edge length where needed.
+  const Obstacle ball = sphere({0, 0, 0}, 1);
+  const Box3 all = cube_around(ball.center, 1.5);
+  for (double edge : {0.03, 0.1, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 100.0}) {
+    TessellationBounds bounds;
+    const Mesh mesh = tessellate_obstacle(ball, all, edge, 0, &bounds);
+    EXPECT_EQ(bounds.edge_length, edge);
+    EXPECT_LE(bounds.gap, 0.25 * edge) << edge;
+    double farthest = 0;
+    for (const Vec3& p : mesh.positions) farthest = std::max(farthest, length3(p));
+    EXPECT_NEAR(farthest, 1 + bounds.gap, 1e-14);
+  }
+}
+
+TEST(TessellateObstacle, CylinderNearABoxContainsTheShrunkCylinder) {
+  const Obstacle& c = tilted_cylinder();
+  // Across the rim, across the side, across a cap around its centre, and
+  // inside near the side.
+  const std::vector<Box3> boxes = {cube_around(on_cylinder(c, 1.5, 1.2, 0.7), 0.4),
+                                   cube_around(on_cylinder(c, 0.3, 1.2, 2.5), 0.3),
+                                   cube_around(on_cylinder(c, -1.5, 0.1, 1.0), 0.3),
+                                   cube_around(on_cylinder(c, -0.6, 1.0, 4.0), 0.15)};
+  for (const Box3& box : boxes) {
+    for (double inset : {0.0, 0.05}) {
+      for (double edge : {0.04, 0.2, 1.0, 3.0, 8.0}) {
+        const Mesh mesh = check_tessellation(c, box, edge, inset, 4);
+        EXPECT_GT(mesh.face_count(), 0);
+      }
+    }
+  }
+}
+
+TEST(TessellateObstacle, CylinderInABoxAroundItIsClosed) {
+  const Obstacle& c = tilted_cylinder();
+  const Box3 all = cube_around(c.center, 2.5);
+  for (double edge : {0.05, 0.3, 1.0, 4.0}) {
+    TessellationBounds bounds;
+    const Mesh mesh = check_tessellation(c, all, edge, 0.1, 4, 200, &bounds);
+    expect_closed(mesh);
+    // The faces of each cap tile its n-gon (no overlaps, no holes), and the
+    // side's the prism's side: the areas add up.
+    const double rho = 1.1, half = 1.4, vertex_radius = rho + bounds.gap;
+    const int n = static_cast<int>(std::lround(M_PI / std::acos(rho / vertex_radius)));
+    double cap_area = 0, side_area = 0;
+    for (int f = 0; f < mesh.face_count(); ++f) {
+      const auto t = face_corners(mesh, f);
+      const Vec3 area = times(cross3(minus(t[1], t[0]), minus(t[2], t[0])), 0.5);
+      const double along = dot3(area, c.axis);
+      if (std::abs(along) > 0.5 * length3(area)) {
+        cap_area += std::abs(along);
+      } else {
+        side_area += length3(area);
+      }
+    }
+    const double polygon = 0.5 * n * vertex_radius * vertex_radius * std::sin(2 * M_PI / n);
+    const double prism_side = n * 2 * vertex_radius * std::sin(M_PI / n) * 2 * half;
+    EXPECT_NEAR(cap_area, 2 * polygon, 1e-12 * polygon);
+    EXPECT_NEAR(side_area, prism_side, 1e-12 * prism_side);
+  }
+}
+
+TEST(TessellateObstacle, CylinderGapIsAQuarterOfTheEdgeAtMost) {
+  const Obstacle c = cylinder({0, 0, 0}, 1, 2, {0, 0, 1});
+  const Box3 all = cube_around(c.center, 2);
+  for (double edge : {0.02, 0.1, 1.0, 2.0, 3.0, 5.0, 100.0}) {
+    TessellationBounds bounds;
+    // The box's middle is on the axis.
+    expect_closed(check_tessellation(c, all, edge, 0, 3, 100, &bounds));
+    EXPECT_EQ(bounds.edge_length, edge);
+    EXPECT_LE(bounds.gap, 0.25 * edge) << edge;
+  }
+}
+
+// Random spheres and cylinders, boxes across their surfaces (at the rims
+// too), edges from a thirtieth of the radius to ten times it.
+// FOLDFILL_TESSELLATION_SCENES sets how many (40), for longer runs by hand.
+TEST(TessellateObstacle, RandomScenes) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const auto between = [&](double low, double high) { return low + (high - low) * unit(random); };
+  const auto direction = [&]() {
+    for (;;) {
+      const Vec3 v{between(-1, 1), between(-1, 1), between(-1, 1)};
+      if (length3(v) > 0.1 && length3(v) < 1) return unit3(v);
+    }
+  };
+  const int scenes = std::getenv("FOLDFILL_TESSELLATION_SCENES")
+                         ? std::atoi(std::getenv("FOLDFILL_TESSELLATION_SCENES"))
+                         : 40;
+  for (int scene = 0; scene < scenes; ++scene) {
+    SCOPED_TRACE(::testing::Message() << "scene " << scene);
+    const Vec3 center{between(-1, 1), between(-1, 1), between(-1, 1)};
+    const double r = between(0.2, 2);
+    Obstacle o;
+    Vec3 on_surface;
+    if (scene % 2 == 0) {
+      o = sphere(center, r);
+      on_surface = plus(center, times(direction(), r));
+    } else {
+      o = cylinder(center, r, r * between(0.3, 4), direction());
+      const double angle = between(0, 2 * M_PI), half = 0.5 * o.height;
+      const int where = scene / 2 % 3;  // side, cap, rim
+      on_surface = where == 0   ? on_cylinder(o, between(-half, half), r, angle)
+                   : where == 1 ? on_cylinder(o, half, between(0, r), angle)
+                                : on_cylinder(o, -half, r, angle);
+    }
+    Box3 box;
+    for (int c = 0; c < 3; ++c) {
+      const double middle = on_surface[c] + r * between(-0.2, 0.2);
+      const double extent = r * between(0.05, 0.6);
+      box.low[c] = middle - extent;
+      box.high[c] = middle + extent;
+    }
+    const double edge = r * std::pow(10, between(-1.5, 1));
+    const double inset = scene % 3 == 0 ? 0 : r * between(0, 0.15);
+    check_tessellation(o, box, edge, inset, 4 + r, 100, nullptr, 0);
+  }
+}
+
+TEST(TessellateObstacle, PlaneIsARectangleOnTheMovedPlane) {
+  const Obstacle wall = plane({0, 0, 1}, unit3({0.6, 0, 0.8}));
+  const Box3 box = {{-0.5, 0.2, 0.6}, {0.4, 0.9, 1.3}};
+  for (double inset : {0.0, 0.05}) {
+    const Mesh mesh = check_tessellation(wall, box, 0.1, inset, 3);
+    EXPECT_EQ(mesh.face_count(), 2);
+    // The rectangle covers the box's projection grown by the edge length.
+    for (const Vec3& corner : {box.low, box.high, Vec3{box.low[0], box.high[1], box.low[2]}}) {
+      const Vec3 grown_corner = plus(corner, {0.1, -0.1, 0.1});
+      const Vec3 projected = minus(
+          grown_corner, times(wall.normal, dot3(minus(grown_corner, wall.center), wall.normal)));
+      EXPECT_TRUE(ray_meets_mesh(mesh, plus(projected, wall.normal), times(wall.normal, -1),
+                                 1 - 1e-12, 1 + inset + 1e-12));
+    }
+  }
+}
+
+TEST(TessellateObstacle, NothingFarFromTheBoxOrLeftOnceShrunk) {
+  const Box3 far = cube_around({10, 10, 10}, 0.5);
+  EXPECT_EQ(tessellate_obstacle(sphere({0, 0, 0}, 1), far, 0.1, 0).face_count(), 0);
+  EXPECT_EQ(tessellate_obstacle(tilted_cylinder(), far, 0.1, 0).face_count(), 0);
+  EXPECT_EQ(tessellate_obstacle(plane({0, 0, 0}, {0, 0, 1}), far, 0.1, 0).face_count(), 0);
+  // Deep inside, away from the surface.
+  EXPECT_EQ(
+      tessellate_obstacle(sphere({0, 0, 0}, 1), cube_around({0, 0, 0}, 0.2), 0.1, 0).face_count(),
+      0);
+  const Box3 near = cube_around({0, 0, 0}, 2);
+  EXPECT_EQ(tessellate_obstacle(sphere({0, 0, 0}, 1), near, 0.1, 1).face_count(), 0);
+  EXPECT_EQ(tessellate_obstacle(cylinder({0, 0, 0}, 1, 1, {0, 0, 1}), near, 0.1, 0.5).face_count(),
+            0);
+}
+
+TEST(TessellateObstacle, ScalesWithTheScene) {
+  const std::vector<Obstacle> obstacles = {sphere({0.3, -0.2, 0.5}, 1.5), tilted_cylinder(),
+                                           plane({0, 0, 1}, unit3({0.6, 0, 0.8}))};
+  const Box3 box = {{0.1, 0.2, 0.45}, {1.4, 1.3, 1.9}};
+  for (const Obstacle& o : obstacles) {
+    const double s = 1000;
+    Obstacle big = o;
+    big.center = times(o.center, s);
+    big.radius = o.radius * s;
+    big.height = o.height * s;
+    const Box3 big_box = {times(box.low, s), times(box.high, s)};
+    TessellationBounds bounds, big_bounds;
+    const Mesh mesh = tessellate_obstacle(o, box, 0.15, 0.02, &bounds);
+    const Mesh big_mesh = tessellate_obstacle(big, big_box, 0.15 * s, 0.02 * s, &big_bounds);
+    EXPECT_GT(mesh.face_count(), 0);
+    ASSERT_EQ(big_mesh.face_count(), mesh.face_count());
+    ASSERT_EQ(big_mesh.vertex_count(), mesh.vertex_count());
+    EXPECT_EQ(big_mesh.faces, mesh.faces);
+    for (int v = 0; v < mesh.vertex_count(); ++v)
+      expect_near(big_mesh.positions[v], times(mesh.positions[v], s), 1e-9 * s);
+    EXPECT_NEAR(big_bounds.gap, bounds.gap * s, 1e-12 * s);
+    EXPECT_NEAR(big_bounds.edge_length, bounds.edge_length * s, 1e-12 * s);
+  }
+}
+
+TEST(TessellateObstacle, FaceCountIsCapped) {
+  // Edges a thousandth of the radius over a box around the whole obstacle
+  // would be millions of faces: they are made larger until they fit.
+  const std::vector<Obstacle> obstacles = {sphere({0.3, -0.2, 0.5}, 1.5), tilted_cylinder()};
+  for (const Obstacle& o : obstacles) {
+    const Box3 all = cube_around(o.center, 2.5);
+    TessellationBounds bounds;
+    const Mesh mesh = check_tessellation(o, all, 0.0015, 0.01, 4, 40, &bounds);
+    EXPECT_LE(mesh.face_count(), kMaxObstacleFaces);
+    EXPECT_GT(mesh.face_count(), kMaxObstacleFaces / 4);
+    EXPECT_GT(bounds.edge_length, 0.0015);
+    expect_closed(mesh);
+  }
+  // A small box needs no coarser faces.
+  TessellationBounds bounds;
+  const Obstacle ball = sphere({0, 0, 0}, 1);
+  const Mesh mesh = tessellate_obstacle(ball, cube_around({0, 0, 1}, 0.01), 0.001, 0, &bounds);
+  EXPECT_EQ(bounds.edge_length, 0.001);
+  EXPECT_LT(mesh.face_count(), 2000);
+}
+
+TEST(TessellateObstacle, RejectsBadArguments) {
+  const Box3 box = cube_around({0, 0, 0}, 1);
+  const Obstacle ball = sphere({0, 0, 0}, 1);
+  EXPECT_THROW(tessellate_obstacle(ball, box, 0, 0), Error);
+  EXPECT_THROW(tessellate_obstacle(ball, box, NAN, 0), Error);
+  EXPECT_THROW(tessellate_obstacle(ball, box, 0.1, -1), Error);
+  EXPECT_THROW(tessellate_obstacle(ball, {{0, 0, 0}, {-1, 1, 1}}, 0.1, 0), Error);
+  EXPECT_THROW(tessellate_obstacle(ball, {{0, 0, 0}, {INFINITY, 1, 1}}, 0.1, 0), Error);
+  Mesh triangle;
+  triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  triangle.faces = {{0, 1, 2}};
+  EXPECT_THROW(tessellate_obstacle(mesh_obstacle(triangle, "triangle"), box, 0.1, 0), Error);
 }
 
 }  // namespace

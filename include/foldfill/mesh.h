@@ -15,6 +15,11 @@ inline bool is_finite(const Vec3& p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
+// An axis-aligned box, corners low and high.
+struct Box3 {
+  Vec3 low{}, high{};
+};
+
 // A triangle mesh as flat arrays. Faces index `positions` (0-based) and are
 // oriented counter-clockwise seen from their front side.
 //

@@ -52,10 +52,6 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
                                        const std::vector<int>& subset, double reach,
                                        const std::vector<int>* nearby = nullptr);
 
-// An axis-aligned box, corners low and high.
-struct Box3 {
-  Vec3 low{}, high{};
-};
 // The bounding box of the faces `subset` of `faces`, grown by `margin` on every side.
 Box3 bounding_box(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                   const std::vector<int>& subset, double margin);

@@ -126,4 +126,68 @@ bool crosses(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, doub
 // `limit` (which saves work).
 double distance(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double limit);
 
+// The most faces tessellate_obstacle returns.
+constexpr int kMaxObstacleFaces = 100000;
+
+// What a mesh from tessellate_obstacle was made for, and how close it is.
+struct TessellationBounds {
+  // The edge length the faces were made for: the one asked for, or a larger
+  // one where that would have made more than kMaxObstacleFaces faces.
+  double edge_length = 0;
+  // Every point of the mesh has a signed distance to the obstacle in
+  // [-inset, gap - inset], up to rounding; gap <= 0.25 * edge_length.
+  double gap = 0;
+};
+
+// The part of a sphere, cylinder or plane obstacle near `box` as a triangle
+// mesh (positions and faces only), so that contacts can be handled against
+// triangles alone. The mesh is (a piece of) the boundary of a convex
+// polyhedron that contains the obstacle shrunk by `inset` (>= 0), and lies
+// between the shrunk surface and `gap` beyond it: a point outside that
+// polyhedron is no deeper in the obstacle than `inset`. Faces are oriented
+// outwards (counter-clockwise seen from the allowed side).
+//
+// Sphere of radius R: with rho = R - inset, a cube-sphere (each face of a
+// cube a grid of equal angles, each cell split into two triangles) whose
+// vertices are all at rho / cos(alpha) from the centre, alpha the largest
+// angular radius of a face's circumcircle. Every face's plane is then at
+// least rho from the centre, so the ball of radius rho is inside, and gap =
+// rho (1 / cos(alpha) - 1). The grid's steps are about `edge_length` on the
+// ball (its diagonals up to 1.45 times that), finer where that is needed for
+// gap <= 0.25 * edge_length.
+// Cylinder of radius R and height H: a prism of n sides around the cylinder
+// of radius rho = R - inset and height H - 2 inset, its vertices at rho /
+// cos(pi / n), so gap = rho (1 / cos(pi / n) - 1); n makes the sides about
+// `edge_length` wide, or is more where that is needed for gap <= 0.25 *
+// edge_length. Rows are about `edge_length` apart along the axis. Each cap
+// is rings about `edge_length` apart, with about as many vertices each as
+// makes its edges `edge_length`, the outermost ring the prism's rim (the
+// edges across rings are up to 1.7 times `edge_length`).
+// Plane: one rectangle (two triangles) on the plane moved by `inset` against
+// its normal, covering the projection of `box` grown by `edge_length`; gap =
+// 0. Being flat, it is exact at any size: the only faces much larger than
+// `edge_length`.
+//
+// Only faces near `box` are kept: those whose bounding box overlaps `box`
+// grown by `edge_length`, among those that the box's directions from the
+// centre (the axis) can see. The part near the box is complete: the ray
+// through a point of the shrunk surface inside `box`, from the sphere's
+// centre, from the cylinder's axis (along the axis for a cap) or along the
+// plane's normal, meets a face within `gap` of that point. The mesh is
+// closed where `box` holds the whole obstacle. A sphere or cylinder that
+// nothing is left of once shrunk (inset >= R, or 2 inset >= H) gives no
+// faces, and so does a plane whose moved plane misses the grown box.
+//
+// At most kMaxObstacleFaces faces: where the box would need more, the faces
+// are made larger (bounds->edge_length) until they fit; they are never finer
+// than 2^-24 of the radius (or half-height). Scale-free (the obstacle, the
+// box, `edge_length` and `inset` scaled together scale the mesh) and
+// deterministic. All of the above holds up to rounding. `bounds`, when
+// given, receives the edge length and the gap.
+// Throws Error(Usage) for a mesh obstacle, an `edge_length` that is not
+// positive and finite, an `inset` that is negative or not finite, or a box
+// with non-finite corners or low above high.
+Mesh tessellate_obstacle(const Obstacle& obstacle, const Box3& box, double edge_length,
+                         double inset, TessellationBounds* bounds = nullptr);
+
 }  // namespace foldfill
