@@ -49,6 +49,7 @@ struct FillArgs {
   double shrink = FillOptions{}.arap.shrink;
   double density = FillOptions{}.triangulate.density;
   double repulsion = FillOptions{}.energy.repulsion;
+  double thickness = FillOptions{}.contact.thickness;
   std::string method = "foldfill", bending = "quadratic", solver = "fast", preset;
   PrototypeWeights prototype;
   int max_iterations = FillOptions{}.solver.max_iterations;

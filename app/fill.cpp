@@ -56,13 +56,13 @@ FillOptions make_fill_options(const FillArgs& args) {
   FillOptions options;
   options.energy.lambda = args.lambda;
   options.energy.repulsion = args.repulsion;
+  options.contact.thickness = args.thickness;
   options.energy.bending =
       args.bending == "two-ring" ? BendingModel::TwoRing : BendingModel::Quadratic;
   options.arap.shrink = args.shrink;
   options.triangulate.density = args.density;
   options.solver.kind = args.solver == "gd" ? SolverKind::GradientDescent : SolverKind::Fast;
   options.solver.max_iterations = args.max_iterations;
-  options.multilevel.enabled = args.coarse_start > 0;
   options.multilevel.min_patch_vertices = args.coarse_start;
   options.solver.time_limit_seconds = args.time_limit;
   if (args.preset == "prototype") options.prototype = args.prototype;

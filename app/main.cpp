@@ -271,6 +271,10 @@ void add_fill_options(CLI::App* command, FillArgs& args) {
       ->check(number_in(0.1, 10.0));
   command->add_option("--repulsion", args.repulsion, "self-repulsion weight (normalised)")
       ->check(number_in(0));
+  command
+      ->add_option("--thickness", args.thickness,
+                   "distance (in hole edge lengths) the patch keeps from anything it touches")
+      ->check(number_in(1e-4, 1.0));
   command->add_option("--bending", args.bending, "bending model")
       ->check(CLI::IsMember({"quadratic", "two-ring"}));
   command->add_option("--solver", args.solver, "energy minimiser")

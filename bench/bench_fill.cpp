@@ -185,7 +185,7 @@ CaseRow print_case(const Case& c, int runs, int gd_runs, int gd_max_iterations) 
     const bool same_weights =
         gd.last.repulsion == fast.last.repulsion && gd.last.lambda == fast.last.lambda;
     std::printf(" %.0f | %d | %s | %.6g | %g, %g | %.5f%s | %.0fx |", 1e3 * gd.fill,
-                gd.last.iterations, gd.last.stop_reason.c_str(), row.gd_energy, gd.last.lambda,
+                gd.last.iterations, to_string(gd.last.stop_reason), row.gd_energy, gd.last.lambda,
                 gd.last.repulsion, row.energy / row.gd_energy,
                 same_weights ? "" : " (weights differ)", row.gd_fill / row.fill);
   } else {
@@ -251,7 +251,7 @@ void print_scaling_table(int max_patch, int runs, int multilevel_from) {
     const int size_runs = target >= 30000 ? 1 : runs;
     const Timing t = time_fill(c, c.options, size_runs);
     FillOptions single_level = c.options;
-    single_level.multilevel.enabled = false;
+    single_level.multilevel.min_patch_vertices = 0;
     const Timing baseline = time_fill(c, single_level, size_runs);
     const StageSeconds& s = t.stages;
     std::printf(

@@ -660,7 +660,7 @@ CaseResult run_case(const Case& c, const fs::path& picture_dir) {
   const FillResult ours = fill_holes(c.mesh, c.loops, {c.hole}, c.options, c.name);
   const HoleReport& hole = ours.report.holes.at(0);
   std::fprintf(stderr, "%s: %d iterations, %s, lambda %g, %.2f s\n", c.name.c_str(),
-               hole.iterations, hole.stop_reason.c_str(), hole.lambda, hole.seconds.total);
+               hole.iterations, to_string(hole.stop_reason), hole.lambda, hole.seconds.total);
   add_fill("foldfill", c, ours, truth, result, panels);
   add_fill("Liepa", c, fill_holes_liepa(c.mesh, c.loops, {c.hole}, c.name), truth, result, panels);
   if (!picture_dir.empty()) {

@@ -184,7 +184,7 @@ HoleSums sum_holes(const FillReport& report) {
     sums.min_loop = std::min(sums.min_loop, h.loop_vertex_count);
     sums.max_loop = std::max(sums.max_loop, h.loop_vertex_count);
     sums.self_intersections += h.self_intersections;
-    if (h.filled) ++sums.stop_reasons[h.stop_reason];
+    if (h.filled) ++sums.stop_reasons[to_string(h.stop_reason)];
     sums.seconds.flatten += h.seconds.flatten;
     sums.seconds.triangulate += h.seconds.triangulate;
     sums.seconds.arap += h.seconds.arap;
@@ -329,7 +329,7 @@ void patch_size_case(int max_patch, const FillOptions& options) {
         "| %d | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %d | %.1f | %s | %.1f | %.0f | %s |\n",
         target, h.patch_vertex_count, h.loop_vertex_count, s.flatten, s.triangulate, s.arap,
         s.optimize, s.total, h.iterations, 1e3 * s.optimize / std::max(h.iterations, 1),
-        h.filled ? h.stop_reason.c_str() : h.reason.c_str(),
+        h.filled ? to_string(h.stop_reason) : h.reason.c_str(),
         1e3 * s.total / (h.patch_vertex_count / 1000.0), row.peak - row.rss_before,
         past.c_str());
     std::fflush(stdout);

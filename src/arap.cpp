@@ -301,6 +301,20 @@ double solve_positions(const EmbedDomain& domain, const Neighbourhoods& hood,
 
 }  // namespace
 
+std::vector<Vec3> membrane_embed(const EmbedDomain& domain) {
+  check_domain(domain);
+  std::vector<Vec3> positions(domain.fixed_positions);
+  if (domain.free_count() == 0) return positions;
+  const Neighbourhoods hood = build_neighbourhoods(domain, 1.0);
+  GlobalSystem system;
+  build_global_system(domain, hood, system);
+  Points x = system.fixed_rhs;
+  system.factor->solve(x, x);
+  positions.reserve(domain.vertex_count());
+  for (int i = 0; i < domain.free_count(); ++i) positions.push_back({x(i, 0), x(i, 1), x(i, 2)});
+  return positions;
+}
+
 std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options,
                              const Budget& budget) {
   check_domain(domain);

@@ -112,7 +112,7 @@ double collision_step_bound(const CollisionMesh& mesh, const double* positions,
   const long pt_count = static_cast<long>(candidates.point_triangle.size());
   const long total = pt_count + static_cast<long>(candidates.edge_edge.size());
   double bound = options.t_max;
-#pragma omp parallel if (total > 2048)
+#pragma omp parallel if (total > 32768)
   {
     CcdOptions local = options;
 #pragma omp for schedule(dynamic, 256) nowait

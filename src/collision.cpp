@@ -19,7 +19,10 @@ namespace {
 constexpr double kRebuildFactor = 2;
 
 // Free vertices below which a search is not worth spreading over threads.
-constexpr int kSmallestParallelSearch = 256;
+// Below this many free vertices a search runs on one thread: the threads of
+// a parallel region would mostly wait for each other (and spin, with
+// libgomp's default wait policy).
+constexpr int kSmallestParallelSearch = 5000;
 // Parts of each search per thread: enough for an even share of the work.
 constexpr int kPartsPerThread = 32;
 
@@ -171,7 +174,7 @@ void CollisionBroadPhase::update_trees() {
     trees[k]->refit(*boxes[k]);
     rebuild[k] = trees[k]->cost() > kRebuildFactor * built_cost_[k];
   }
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (rebuild[0] + rebuild[1] + rebuild[2] > 1)
   for (int k = 0; k < 3; ++k) {
     if (!rebuild[k]) continue;
     trees[k]->build(*boxes[k]);
@@ -288,7 +291,7 @@ namespace {
 
 // Candidate pairs per block of the barrier sum: blocks of a fixed size, summed
 // in order, make the sum independent of the thread count.
-constexpr long kBarrierBlock = 4096;
+constexpr long kBarrierBlock = 16384;
 
 // The corners of the k-th candidate pair (point-triangle pairs first) and
 // their squared distance, with its gradient when `gradient` is non-null.
@@ -374,7 +377,7 @@ void keep_candidates_within(const CollisionMesh& mesh, const double* positions, 
   const long pt_count = static_cast<long>(candidates.point_triangle.size());
   const double distance_sq = distance * distance;
   std::vector<char> keep(total);
-#pragma omp parallel for schedule(static) if (total > 4096)
+#pragma omp parallel for schedule(static) if (total > 32768)
   for (long k = 0; k < total; ++k) {
     int v[4];
     keep[k] = pair_distance(mesh, positions, candidates, k, v, nullptr) < distance_sq;

@@ -30,6 +30,26 @@ std::string crossing_warning(const Crossings& c) {
   return text + ")";
 }
 
+// Whether the triangle reaches into the obstacle deeper than `tolerance`. A
+// mesh obstacle with no tolerance: by the exact test; with one (the cloth
+// around the hole rests on it or a little inside), deeper than it at the
+// triangle's corners, edge midpoints or centroid.
+bool crosses_deeper(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle,
+                    double tolerance) {
+  if (obstacle.type != Obstacle::Type::Mesh || !(tolerance > 0))
+    return crosses(obstacle, triangle, tolerance);
+  const auto mix = [&](double a, double b, double c) {
+    Vec3 p;
+    for (int k = 0; k < 3; ++k)
+      p[k] = a * triangle[0][k] + b * triangle[1][k] + c * triangle[2][k];
+    return p;
+  };
+  for (const Vec3& p : {triangle[0], triangle[1], triangle[2], mix(0.5, 0.5, 0), mix(0, 0.5, 0.5),
+                        mix(0.5, 0, 0.5), mix(1.0 / 3, 1.0 / 3, 1.0 / 3)})
+    if (signed_distance(obstacle, p) < -tolerance) return true;
+  return false;
+}
+
 // The new faces that cross into an obstacle, and the least distance from them
 // to the obstacles when below `limit`.
 void measure_obstacles(const Mesh& mesh, const std::vector<int>& patch,
@@ -42,7 +62,7 @@ void measure_obstacles(const Mesh& mesh, const std::vector<int>& patch,
                                        mesh.positions[t[2]]};
     bool crossed = false;
     for (const Obstacle& obstacle : obstacles) {
-      if (!crossed && crosses(obstacle, triangle, tolerance)) {
+      if (!crossed && crosses_deeper(obstacle, triangle, tolerance)) {
         crossed = true;
         limit = 0;
       }
@@ -77,7 +97,8 @@ void measure_crossings(const Mesh& mesh, const std::vector<std::vector<int>>& pa
         count_subset_crossings(mesh.positions, mesh.faces, patch, kCrossingReach * h, &nearby[k]);
     double nearest = pairs.min_distance;
     int crossing = 0;
-    measure_obstacles(mesh, patch, obstacles, kObstacleTolerance * h, crossing, nearest);
+    measure_obstacles(mesh, patch, obstacles,
+                      std::max(kObstacleTolerance, hole.obstacle_allowance) * h, crossing, nearest);
     hole.crossings = {pairs.within, pairs.with_others, crossing};
     hole.self_intersections = hole.crossings.total();
     hole.min_distance = h > 0 ? nearest / h : 0;

@@ -620,6 +620,65 @@ void FabricEnergy::update_repulsion_pairs() const {
   repulsion_anchor_ = points_;
 }
 
+namespace {
+
+// Adds weight * the Laplacian of `springs` over the free vertices to `entries`.
+void add_spring_laplacian(const std::vector<Spring>& springs, int fixed, double weight,
+                          std::vector<Eigen::Triplet<double>>& entries) {
+  for (const Spring& s : springs) {
+    const int i = s.i - fixed, j = s.j - fixed;
+    if (i >= 0) entries.emplace_back(i, i, weight);
+    if (j >= 0) entries.emplace_back(j, j, weight);
+    if (i >= 0 && j >= 0) {
+      entries.emplace_back(i, j, -weight);
+      entries.emplace_back(j, i, -weight);
+    }
+  }
+}
+
+// Adds weight * the free block of `hessian` (over all domain vertices, the
+// first `fixed` of them fixed) to `entries`.
+void add_free_block(const Eigen::SparseMatrix<double>& hessian, int fixed, double weight,
+                    std::vector<Eigen::Triplet<double>>& entries) {
+  for (int col = fixed; col < hessian.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(hessian, col); it; ++it)
+      if (it.row() >= fixed)
+        entries.emplace_back(static_cast<int>(it.row()) - fixed, col - fixed, weight * it.value());
+}
+
+double diagonal_sum(const std::vector<Eigen::Triplet<double>>& entries) {
+  double sum = 0;
+  for (const Eigen::Triplet<double>& entry : entries)
+    if (entry.row() == entry.col()) sum += entry.value();
+  return sum;
+}
+
+// The bending part makes the factor denser (a two-ring stencil), so it is
+// left out where it buys too little: where it weighs under this share of the
+// springs' diagonal (at the default lambda), and on the quadratic model's
+// patches above this many free vertices, where the dearer solves outweigh the
+// iterations it saves (docs/benchmarks.md).
+constexpr double kSmallestBendingShare = 0.01;
+constexpr int kLargestBendingPreconditioner = 40000;
+
+}  // namespace
+
+Eigen::SparseMatrix<double> FabricEnergy::preconditioner() const {
+  const int fixed = domain_.fixed_count;
+  const int free_count = domain_.free_count();
+  const double lambda = options_.lambda;
+  std::vector<Eigen::Triplet<double>> entries, bending;
+  add_spring_laplacian(springs_, fixed, 1.0, entries);
+  add_spring_laplacian(two_ring_springs_, fixed, lambda, bending);
+  if (free_count <= kLargestBendingPreconditioner)
+    add_free_block(bending_hessian_, fixed, lambda, bending);
+  if (diagonal_sum(bending) >= kSmallestBendingShare * diagonal_sum(entries))
+    entries.insert(entries.end(), bending.begin(), bending.end());
+  Eigen::SparseMatrix<double> p(free_count, free_count);
+  p.setFromTriplets(entries.begin(), entries.end());
+  return p;
+}
+
 std::vector<Vec3> FabricEnergy::positions(const Eigen::VectorXd& x) const {
   const int free = domain_.free_count();
   if (x.size() != 3 * static_cast<Eigen::Index>(free)) {

@@ -1,6 +1,8 @@
-// The whole fill of section 3 of Gisbert et al. 2023, hole by hole: flatten
-// the strip, mesh the flat patch, place it with ARAP from a shrunk rest shape,
-// minimise the fabric energy, then stitch the new vertices and faces.
+// The whole fill of section 3 of Gisbert et al. 2023, hole by hole: plan
+// (flatten the strip, mesh the flat patch, glue them into a normalised
+// domain), start (ARAP from a shrunk rest shape, or coarser levels of the same
+// hole), one minimisation of the fabric energy that crosses nothing (see
+// contact.h), the measurements, then stitch the new vertices and faces.
 #include "foldfill/inpaint.h"
 
 #include <algorithm>
@@ -8,7 +10,11 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <numeric>
 #include <optional>
+#include <unordered_map>
+#include <cstdio>
+#include <cstdlib>
 
 #include "foldfill/domain.h"
 #include "foldfill/error.h"
@@ -22,20 +28,19 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Retries of a self-intersecting patch (see minimise_patch): the bending
-// weight grows kStiffening times per step, to at least kSmallestStiffenedLambda
-// (so that a weight of 0 grows too). The reference contour example untangles
-// from about 0.1 on, but where it does is chaotic: the reference curtain with
-// c 0.3, repulsion 3 and lambda 1e-4 still intersects at 1e-4 * 10^3 and not
-// at 1 (docs/quality.md, "Tuning the defaults"). Four steps reach 1 from 1e-4.
-constexpr int kStiffeningSteps = 4;
-constexpr double kStiffening = 10;
-constexpr double kSmallestStiffenedLambda = 1e-3;
-
-// A watched minimisation (see RetryRules) is looked at after this many
-// iterations, and given up at once when the patch passes through itself
-// there (see minimise_patch).
-constexpr int kPassThroughCheck = 8;
+// How far (in units of the hole's length scale) start vertices are put
+// outside an obstacle they are in or near: a face between such vertices
+// stays outside a curved obstacle unless its radius is under a quarter of
+// an edge.
+constexpr double kObstacleClearance = 0.25;
+// Edge length of the triangles an analytic obstacle is seen as (in units of
+// the length scale; see tessellate_obstacle).
+constexpr double kObstacleEdgeLength = 0.5;
+// How far (in units of the length scale) a mesh obstacle is moved in where
+// the strip lies on it.
+constexpr double kMeshClearance = 0.01;
+// Bisection steps of the way from the ARAP start towards the membrane.
+constexpr int kBlendSteps = 6;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -50,8 +55,8 @@ struct HolePatch {
 };
 
 std::vector<int> free_vertices(const EmbedDomain& domain) {
-  std::vector<int> vertices;
-  for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) vertices.push_back(v);
+  std::vector<int> vertices(domain.free_count());
+  std::iota(vertices.begin(), vertices.end(), domain.fixed_count);
   return vertices;
 }
 
@@ -93,11 +98,34 @@ void apply_prototype_weights(const PrototypeWeights& w, double length_scale, Ene
   solver.step = w.step * w.alpha;
 }
 
+void check_options(const FillOptions& options, const std::string& source) {
+  if (!options.prototype) return;
+  const bool weights_set = options.energy.lambda != EnergyOptions{}.lambda ||
+                           options.energy.repulsion != EnergyOptions{}.repulsion ||
+                           options.solver.step != SolverOptions{}.step;
+  if (weights_set)
+    throw Error(ErrorKind::Usage, source +
+                                      ": the prototype's weights replace lambda, repulsion and "
+                                      "the descent step; set one or the other");
+}
+
 Mesh flat_mesh(const std::vector<Vec2>& uv, const std::vector<Tri>& faces) {
   Mesh mesh;
   for (const Vec2& p : uv) mesh.positions.push_back({p[0], p[1], 0});
   mesh.faces = faces;
   return mesh;
+}
+
+Vec3 normalised(const Vec3& p, const EmbedDomain& domain) {
+  const double inverse = 1 / domain.length_scale;
+  return {(p[0] - domain.origin[0]) * inverse, (p[1] - domain.origin[1]) * inverse,
+          (p[2] - domain.origin[2]) * inverse};
+}
+
+Vec3 in_mesh_units(const Vec3& x, const EmbedDomain& domain) {
+  return {domain.origin[0] + domain.length_scale * x[0],
+          domain.origin[1] + domain.length_scale * x[1],
+          domain.origin[2] + domain.length_scale * x[2]};
 }
 
 // What every hole of one fill shares: the mesh, its vertex-face incidence,
@@ -119,153 +147,463 @@ void throw_if_cancelled(const FillContext& context, const std::string& where) {
     throw Error(ErrorKind::FillFailed, where + ": cancelled");
 }
 
-// The minimised patch and the energy it was minimised with.
-struct Minimised {
-  std::optional<FabricEnergy> energy;
-  SolverResult solved;
-  // Intersecting triangle pairs, not counted (0) in a minimisation abandoned
-  // because it passed through itself: it has some (see count_if_abandoned).
-  int self_intersections = 0;
-  bool tangled() const { return self_intersections > 0 || solved.stop_reason == "abandoned"; }
-};
+// ---- Reach ------------------------------------------------------------------
 
-// The intersecting pairs of a minimised patch (none among the strip's faces).
-int patch_pairs(const Minimised& minimised, const EmbedDomain& domain) {
-  return count_self_intersections(minimised.solved.positions, domain.faces,
-                                  domain.strip_face_count);
-}
-
-// One minimisation from `start`.
-Minimised minimise_once(const EmbedDomain& domain, const std::vector<Vec3>& start,
-                        const EnergyOptions& energy_options, const SolverOptions& solver,
-                        const std::vector<Obstacle>& obstacles, const Budget& budget,
-                        HoleReport& report) {
-  Minimised result;
-  result.energy.emplace(domain, energy_options);
-  result.solved = minimize_energy(*result.energy, obstacles, start, solver, budget);
-  report.iterations += result.solved.iterations;
-  if (result.solved.stop_reason != "abandoned")
-    result.self_intersections = patch_pairs(result, domain);
-  return result;
-}
-
-// Counts the pairs of an abandoned minimisation that is kept after all.
-Minimised count_if_abandoned(Minimised result, const EmbedDomain& domain) {
-  if (result.solved.stop_reason == "abandoned")
-    result.self_intersections = patch_pairs(result, domain);
-  return result;
-}
-
-// How minimise_patch retries a self-intersecting patch: at most
-// `stiffening_steps` stiffer minimisations, and which minimisations are given
-// up early when the patch passes through itself (kPassThroughCheck): only one
-// at a weak repulsion, or every one.
-struct RetryRules {
-  int stiffening_steps = kStiffeningSteps;
-  bool watch_every_attempt = false;
-};
-
-// Minimises the fabric energy from `initial`. Vertex repulsion prevents most
-// self-intersections, but at a small bending weight a large patch can crumple
-// so fast that a fold slips through between vertices, and more repulsion does
-// not stop that. So when the result intersects itself: a repulsion weaker
-// than the default is first raised to it (minimised again from `initial`);
-// such a minimisation is also given up after kPassThroughCheck iterations
-// when the patch passes through itself there: as the shrunk ARAP start
-// expands, a weak repulsion lets folds through at once (the reference
-// curtain at the prototype's repulsion of 0.1: 90 intersecting pairs after 4
-// iterations, 223 at convergence 126 iterations later), and a surface that
-// passed through itself may come apart again but in the wrong layer order;
-// then, while it still intersects, minimise again from `initial` with
-// kStiffening times the bending weight, up to kStiffeningSteps times (with the
-// prototype's repulsion of 0.1 kept, the reference curtain came out clean only
-// at 100 times its bending weight, and tangled again when relaxed back). A
-// clean stiffer result is then relaxed: minimised again from there with the
-// bending weight asked for. It starts untangled, and the repulsion keeps it so
-// while it only has to find its finer folds; if it intersects (or diverges)
-// all the same, the stiffer result is kept. report.lambda says which bending
-// weight the patch finally has, report.stiffened_retries how many stiffer
-// minimisations it took (at most rules.stiffening_steps). `budget` covers
-// them all: none starts once it is spent.
-Minimised minimise_patch(const EmbedDomain& domain, const std::vector<Vec3>& initial,
-                         const EnergyOptions& energy_options, const SolverOptions& solver,
-                         const std::vector<Obstacle>& obstacles, const Budget& budget,
-                         HoleReport& report, const RetryRules& rules = {}) {
-  const auto out_of_time = [&] { return budget.spent(); };
-  const auto finish = [&](Minimised kept, double lambda, double repulsion) {
-    Minimised result = count_if_abandoned(std::move(kept), domain);
-    report.lambda = lambda;
-    report.repulsion = repulsion;
-    report.self_intersections = result.self_intersections;
-    report.stop_reason = result.solved.stop_reason;
-    return result;
-  };
-  const auto minimise = [&](const std::vector<Vec3>& from, double lambda, double repulsion,
-                            bool watch = false) {
-    EnergyOptions weights = energy_options;
-    weights.lambda = lambda;
-    weights.repulsion = repulsion;
-    SolverOptions options = solver;
-    if (watch || rules.watch_every_attempt) {
-      options.watch_iteration = kPassThroughCheck;
-      options.watch = [&domain](const std::vector<Vec3>& positions) {
-        return !passes_through_itself(positions, domain.faces, domain.strip_face_count);
-      };
+// A box, in the mesh's units, that a hole's patch cannot leave: the loop's
+// box grown by one and a half times the radius of a disk of the loop's
+// length (no point of a flat patch is farther from its boundary, and the
+// patch stretches little), plus two edges for the strip. Everything the
+// patch might cross lies in it.
+Box3 reach_box(const BoundaryLoop& loop) {
+  Box3 box{loop.positions.at(0), loop.positions.at(0)};
+  for (const Vec3& p : loop.positions)
+    for (int c = 0; c < 3; ++c) {
+      box.low[c] = std::min(box.low[c], p[c]);
+      box.high[c] = std::max(box.high[c], p[c]);
     }
-    return minimise_once(domain, from, weights, options, obstacles, budget, report);
-  };
-  const auto cancelled = [](const Minimised& m) { return m.solved.stop_reason == "cancelled"; };
-
-  double lambda = energy_options.lambda, repulsion = energy_options.repulsion;
-  const bool weak_repulsion = repulsion < EnergyOptions{}.repulsion;
-  Minimised result = minimise(initial, lambda, repulsion, /*watch=*/weak_repulsion);
-  const auto may_retry = [&] { return result.tangled() && !cancelled(result) && !out_of_time(); };
-  if (may_retry() && weak_repulsion) {
-    // A weaker repulsion than the default is raised to it first, at the
-    // bending weight asked for: that alone untangles the reference curtain
-    // with the prototype's weights in 272 iterations, where stiffening and
-    // relaxing took 754 and ended 1% higher.
-    repulsion = EnergyOptions{}.repulsion;
-    result = minimise(initial, lambda, repulsion);
+  const double grow = 1.5 * loop.length / (2 * M_PI) + 2 * loop.mean_edge_length;
+  for (int c = 0; c < 3; ++c) {
+    box.low[c] -= grow;
+    box.high[c] += grow;
   }
-  while (may_retry() && report.stiffened_retries < rules.stiffening_steps) {
-    lambda = std::max(lambda * kStiffening, kSmallestStiffenedLambda);
-    result = minimise(initial, lambda, repulsion);
-    ++report.stiffened_retries;
-  }
-  if (report.stiffened_retries == 0 || result.tangled() || cancelled(result) || out_of_time())
-    return finish(std::move(result), lambda, repulsion);
-  Minimised relaxed = minimise(result.solved.positions, energy_options.lambda, repulsion);
-  const bool relaxed_is_better = !relaxed.tangled() && relaxed.solved.stop_reason != "diverged";
-  if (relaxed_is_better || cancelled(relaxed))
-    return finish(std::move(relaxed), energy_options.lambda, repulsion);
-  return finish(std::move(result), lambda, repulsion);
+  return box;
 }
 
-// A coarse level of the coarse-to-fine start (multilevel.h) only has to hand
-// the finer level its large folds, untangled; nothing when it cannot. It is
-// minimised as a patch is (minimise_patch), but at once with at least the
-// default repulsion, which the retries would raise it to, and stiffened at
-// most once: that untangles Contour's coarse level, while the Curtain's stays
-// tangled through all four steps (its triangles span a narrow finger of the
-// hole in one piece and cannot fold inside it; the fine patch is clean at the
-// default repulsion), and the finer level does better from ARAP than after
-// more retries. Each of its minimisations is given up when the level passes
-// through itself after kPassThroughCheck iterations: the Curtain's does, by
-// 48 and 15 pairs, and ends with 30 and 50 after 130 and 210 iterations; of
-// the coarse levels of bench_fill's and bench_quality's cases, none that
-// passed through itself there came apart again.
-std::optional<std::vector<Vec3>> minimise_coarse_level(
-    const EmbedDomain& level, const std::vector<Vec3>& start, EnergyOptions energy_options,
-    const SolverOptions& solver, const std::vector<Obstacle>& obstacles, const Budget& budget) {
-  energy_options.repulsion = std::max(energy_options.repulsion, EnergyOptions{}.repulsion);
-  HoleReport level_report;  // the hole's report is the fine level's
-  Minimised minimised =
-      minimise_patch(level, start, energy_options, solver, obstacles, budget, level_report,
-                     RetryRules{/*stiffening_steps=*/1, /*watch_every_attempt=*/true});
-  if (minimised.solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, "cancelled");
-  if (minimised.tangled()) return std::nullopt;
-  return std::move(minimised.solved.positions);
+bool boxes_overlap(const Box3& a, const Box3& b) {
+  for (int c = 0; c < 3; ++c)
+    if (a.high[c] < b.low[c] || b.high[c] < a.low[c]) return false;
+  return true;
+}
+
+bool inside(const Box3& box, const Vec3& p) {
+  for (int c = 0; c < 3; ++c)
+    if (!(p[c] >= box.low[c] && p[c] <= box.high[c])) return false;
+  return true;
+}
+
+// ---- The plan ---------------------------------------------------------------
+
+// What a hole's fill is computed from: the strip around it, its flattening,
+// the flat patch and their glue, the normalised domain.
+struct HolePlan {
+  Strip strip;
+  Flattening flat;
+  FlatPatch patch;
+  EmbedDomain domain;
+};
+
+HolePlan plan_hole(const FillContext& context, const BoundaryLoop& loop, HoleReport& report) {
+  const auto start = Clock::now();
+  const std::string where = hole_source(context.source, loop.id);
+  HolePlan plan;
+  plan.strip = extract_strip(context.mesh, context.vertex_faces, loop, context.source);
+  plan.flat = flatten_strip(plan.strip, where);
+  report.seconds.flatten = seconds_since(start);
+
+  const auto stage = Clock::now();
+  plan.patch = triangulate_hole(hole_polygon(plan.strip, plan.flat), context.options.triangulate);
+  report.seconds.triangulate = seconds_since(stage);
+  report.min_angle_deg = plan.patch.min_angle_deg;
+  report.share_below_20deg = plan.patch.share_below_20deg;
+  report.flat_area = plan.patch.area;
+  if (context.options.keep_flat) {
+    report.flat_strip = flat_mesh(plan.flat.uv, plan.strip.faces);
+    report.flat_patch = flat_mesh(plan.patch.uv, plan.patch.faces);
+  }
+  plan.domain = make_embed_domain(plan.strip, plan.flat, plan.patch);
+  report.length_scale = plan.domain.length_scale;
+  return plan;
+}
+
+// ---- The scene: what the patch must not cross ------------------------------
+
+// Whether every point of `points` is farther than `gap` from the obstacle.
+bool farther_than(const Obstacle& obstacle, const std::vector<Vec3>& points, double gap) {
+  return std::all_of(points.begin(), points.end(),
+                     [&](const Vec3& p) { return farther_than(obstacle, p, gap); });
+}
+
+// Moves each vertex of `mesh` by `inset` against its normal (the mean of its
+// faces' unit normals, weighted by their angles there).
+void inset_along_normals(Mesh& mesh, double inset) {
+  std::vector<Vec3> normals(mesh.positions.size(), Vec3{0, 0, 0});
+  for (const Tri& f : mesh.faces) {
+    const Vec3& a = mesh.positions[f[0]];
+    const Vec3& b = mesh.positions[f[1]];
+    const Vec3& c = mesh.positions[f[2]];
+    const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const double length = std::hypot(n[0], n[1], n[2]);
+    if (!(length > 0)) continue;
+    for (double& x : n) x /= length;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = mesh.positions[f[k]];
+      const Vec3& q = mesh.positions[f[(k + 1) % 3]];
+      const Vec3& r = mesh.positions[f[(k + 2) % 3]];
+      const Vec3 e1{q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2{r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+      const double cosine = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) /
+                            (std::hypot(e1[0], e1[1], e1[2]) * std::hypot(e2[0], e2[1], e2[2]));
+      const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
+      for (int c2 = 0; c2 < 3; ++c2) normals[f[k]][c2] += angle * n[c2];
+    }
+  }
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const double length = std::hypot(normals[v][0], normals[v][1], normals[v][2]);
+    if (!(length > 0)) continue;
+    for (int c = 0; c < 3; ++c) mesh.positions[v][c] -= inset * normals[v][c] / length;
+  }
+}
+
+// The surroundings of one hole: the faces of the input near it and the
+// patches of the holes filled before it that it may reach.
+struct Surroundings {
+  Box3 reach;
+  const std::vector<int>* nearby_faces = nullptr;  // ascending indices into the input's faces
+  std::vector<const HolePatch*> earlier;
+};
+
+// Vertices of the scene, found by a key (an input vertex, or a vertex of
+// another patch), numbered as PatchScene wants: the strip's own vertices
+// are the domain's fixed ones.
+class SceneBuilder {
+ public:
+  SceneBuilder(const HolePlan& plan, PatchScene& scene) : plan_(plan), scene_(scene) {
+    for (int k = 0; k < plan.domain.fixed_count; ++k) index_of_input_[plan.strip.to_input[k]] = k;
+  }
+
+  // The scene index of input vertex `v` at `p` (mesh units).
+  int input_vertex(int v, const Vec3& p) {
+    const auto [it, inserted] = index_of_input_.emplace(v, next_index());
+    if (inserted) scene_.positions.push_back(normalised(p, plan_.domain));
+    return it->second;
+  }
+  // A new scene vertex at `p` (mesh units).
+  int new_vertex(const Vec3& p) {
+    scene_.positions.push_back(normalised(p, plan_.domain));
+    return next_index() - 1;
+  }
+  // A scene vertex at `x`, already normalised.
+  int normalised_vertex(const Vec3& x) {
+    scene_.positions.push_back(x);
+    return next_index() - 1;
+  }
+  void face(const Tri& f) { scene_.faces.push_back(f); }
+
+ private:
+  int next_index() const {
+    return plan_.domain.fixed_count + static_cast<int>(scene_.positions.size());
+  }
+
+  const HolePlan& plan_;
+  PatchScene& scene_;
+  std::unordered_map<int, int> index_of_input_;
+};
+
+// The normalised obstacles of a hole, with what the contact sees of them.
+struct SceneObstacles {
+  std::vector<Obstacle> normalised;  // all of them
+  double allowance = 0;              // how deep the patch may reach into an analytic one
+};
+
+// The scene of a hole: the input's faces near it but the strip's, the
+// earlier patches it may reach, and the obstacles as triangles: a mesh
+// obstacle's own faces near the hole; a sphere, cylinder or plane
+// triangulated around its solid shrunk by the hole's allowance, as deep as
+// the strip already reaches into it (the cloth may rest on or a hair inside
+// an obstacle), plus the triangulation's gap.
+PatchScene make_scene(const FillContext& context, const HolePlan& plan,
+                      const Surroundings& around, SceneObstacles& obstacles) {
+  PatchScene scene;
+  SceneBuilder builder(plan, scene);
+  const Mesh& mesh = context.mesh;
+  const std::vector<int>& strip_faces = plan.strip.input_faces;  // ascending
+  if (around.nearby_faces) {
+    for (int f : *around.nearby_faces) {
+      if (std::binary_search(strip_faces.begin(), strip_faces.end(), f)) continue;
+      Tri face;
+      for (int k = 0; k < 3; ++k)
+        face[k] = builder.input_vertex(mesh.faces[f][k], mesh.positions[mesh.faces[f][k]]);
+      builder.face(face);
+    }
+  }
+  for (const HolePatch* patch : around.earlier) {
+    const int loop_size = static_cast<int>(patch->loop.size());
+    std::vector<int> index(loop_size + patch->new_positions.size());
+    for (int k = 0; k < loop_size; ++k)
+      index[k] = builder.input_vertex(patch->loop[k], mesh.positions[patch->loop[k]]);
+    for (size_t k = 0; k < patch->new_positions.size(); ++k)
+      index[loop_size + k] = builder.new_vertex(patch->new_positions[k]);
+    for (const Tri& f : patch->faces) builder.face({index[f[0]], index[f[1]], index[f[2]]});
+  }
+
+  const EmbedDomain& domain = plan.domain;
+  const Box3 reach{normalised(around.reach.low, domain), normalised(around.reach.high, domain)};
+  for (const Obstacle& obstacle : context.options.obstacles) {
+    const Obstacle o = normalized(obstacle, domain.origin, domain.length_scale);
+    obstacles.normalised.push_back(o);
+    double depth = 0;  // of the strip into the obstacle
+    for (const Vec3& p : domain.fixed_positions) depth = std::max(depth, -signed_distance(o, p));
+    Mesh triangles;
+    if (o.type == Obstacle::Type::Mesh) {
+      triangles = o.mesh->mesh();
+      // Where the strip rests on the obstacle or a little inside, its
+      // triangles are moved in, each vertex along its normal, by that depth
+      // and a hair, so that the strip lies outside them.
+      if (depth > 0 || !farther_than(o, domain.fixed_positions, kMeshClearance)) {
+        const double inset = depth + kMeshClearance;
+        inset_along_normals(triangles, inset);
+        obstacles.allowance = std::max(obstacles.allowance, inset);
+      }
+    } else {
+      // The triangles lie up to their gap outside the shrunk solid: shrunk
+      // by the depth and the gap, they leave the strip outside.
+      // The gap grows a little as the solid shrinks: the inset is raised
+      // until it covers the gap of its own triangulation.
+      const double margin = 1e-3 * kObstacleEdgeLength;
+      TessellationBounds bounds;
+      double inset = depth;
+      for (int attempt = 0; attempt < 4; ++attempt) {
+        triangles = tessellate_obstacle(o, reach, kObstacleEdgeLength, inset, &bounds);
+        if (inset >= depth + bounds.gap + margin) break;
+        inset = depth + 1.5 * bounds.gap + margin;
+      }
+      obstacles.allowance = std::max(obstacles.allowance, inset);
+    }
+    std::vector<int> index(triangles.positions.size(), -1);
+    for (const Tri& f : triangles.faces) {
+      Box3 box{triangles.positions[f[0]], triangles.positions[f[0]]};
+      for (int v : f)
+        for (int c = 0; c < 3; ++c) {
+          box.low[c] = std::min(box.low[c], triangles.positions[v][c]);
+          box.high[c] = std::max(box.high[c], triangles.positions[v][c]);
+        }
+      if (!boxes_overlap(box, reach)) continue;
+      Tri face;
+      for (int k = 0; k < 3; ++k) {
+        int& i = index[f[k]];
+        if (i < 0) i = builder.normalised_vertex(triangles.positions[f[k]]);
+        face[k] = i;
+      }
+      builder.face(face);
+    }
+  }
+  return scene;
+}
+
+// ---- The start -----------------------------------------------------------------
+
+// Puts the free vertices of `positions` at least `clearance` outside every
+// obstacle they are in or near.
+void clear_obstacles(const EmbedDomain& domain, const std::vector<Obstacle>& obstacles,
+                     double clearance, std::vector<Vec3>& positions) {
+  for (const Obstacle& o : obstacles) {
+    for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) {
+      Vec3& p = positions[v];
+      if (farther_than(o, p, clearance)) continue;
+      push_outside(o, p);
+      const double gap = clearance - signed_distance(o, p);
+      if (!(gap > 0)) continue;
+      const Vec3 n = outward_normal(o, p);
+      for (int c = 0; c < 3; ++c) p[c] += gap * n[c];
+    }
+  }
+}
+
+// Puts the free vertices of `positions` at least `clearance` outside every
+// obstacle by moving them all one way: along the obstacle's outward normal
+// at the centroid of those within `clearance` of it. Where nearest points
+// would take neighbouring vertices to different sides of an edge or a
+// corner, this lifts the patch over it like a tent.
+void lift_over_obstacles(const EmbedDomain& domain, const std::vector<Obstacle>& obstacles,
+                         double clearance, std::vector<Vec3>& positions) {
+  for (const Obstacle& o : obstacles) {
+    Vec3 centroid{0, 0, 0};
+    int count = 0;
+    for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) {
+      if (farther_than(o, positions[v], clearance)) continue;
+      for (int c = 0; c < 3; ++c) centroid[c] += positions[v][c];
+      ++count;
+    }
+    if (count == 0) continue;
+    for (double& x : centroid) x /= count;
+    const Vec3 n = outward_normal(o, centroid);
+    if (!(std::hypot(n[0], n[1], n[2]) > 0)) continue;
+    for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) {
+      Vec3& p = positions[v];
+      if (farther_than(o, p, clearance)) continue;
+      // The least lift along n that clears it, by doubling then bisection.
+      const auto at = [&](double t) { return Vec3{p[0] + t * n[0], p[1] + t * n[1], p[2] + t * n[2]}; };
+      double low = 0, high = clearance;
+      for (int k = 0; k < 60 && signed_distance(o, at(high)) < clearance; ++k) high *= 2;
+      for (int k = 0; k < 40; ++k) {
+        const double mid = 0.5 * (low + high);
+        (signed_distance(o, at(mid)) < clearance ? low : high) = mid;
+      }
+      p = at(high);
+    }
+  }
+}
+
+// The clearances a start is tried with: kObstacleClearance, then (with
+// obstacles) the largest circumradius of the rest triangles, beyond which no
+// triangle whose corners are that far outside a convex obstacle (or a convex
+// part of one, a box's corner) can reach into it.
+std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obstacle>& obstacles) {
+  std::vector<double> result{kObstacleClearance};
+  if (obstacles.empty()) return result;
+  double largest = 0;
+  for (size_t f = domain.strip_face_count; f < domain.faces.size(); ++f) {
+    const Vec2& a = domain.rest_uv[domain.faces[f][0]];
+    const Vec2& b = domain.rest_uv[domain.faces[f][1]];
+    const Vec2& c = domain.rest_uv[domain.faces[f][2]];
+    const double ab = std::hypot(b[0] - a[0], b[1] - a[1]);
+    const double bc = std::hypot(c[0] - b[0], c[1] - b[1]);
+    const double ca = std::hypot(a[0] - c[0], a[1] - c[1]);
+    const double twice_area = std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    if (twice_area > 0) largest = std::max(largest, ab * bc * ca / (2 * twice_area));
+  }
+  if (largest > kObstacleClearance) result.push_back(1.1 * largest);
+  return result;
+}
+
+// Whether the patch at `positions` crosses nothing (itself, its strip, the
+// scene: exact predicates) and touches nothing (the barrier is finite).
+bool crosses_nothing(const EmbedDomain& domain, const PatchContact& contact,
+                     const std::vector<Vec3>& positions, const FabricEnergy& energy) {
+  const Eigen::VectorXd x = energy.variables(positions);
+  if (!std::isfinite(contact.evaluate(x, nullptr))) { if (std::getenv("FF_DEBUG")) std::fprintf(stderr, "barrier infinite\n"); return false; }
+  std::vector<int> patch(domain.faces.size() - domain.strip_face_count);
+  std::iota(patch.begin(), patch.end(), domain.strip_face_count);
+  const SubsetCrossings crossings =
+      count_subset_crossings(contact.positions(x), contact.mesh().faces, patch, 0.0);
+  if (std::getenv("FF_DEBUG")) {
+    std::vector<Tri> only_domain(contact.mesh().faces.begin(), contact.mesh().faces.begin() + domain.faces.size());
+    const SubsetCrossings d = count_subset_crossings(contact.positions(x), only_domain, patch, 0.0);
+    std::fprintf(stderr, "clean? within %d others %d (strip %d)\n", crossings.within, crossings.with_others, d.with_others);
+  }
+  return crossings.within == 0 && crossings.with_others == 0;
+}
+
+// One level of the start: a domain with its energy and contact.
+struct Level {
+  const EmbedDomain& domain;
+  const FabricEnergy& energy;
+  const PatchContact& contact;
+  const std::vector<Obstacle>& obstacles;
+};
+
+// A start for `level` that crosses nothing: `candidate` cleared of the
+// obstacles when it crosses nothing; else the first point that does not on
+// the way from it to the membrane (bisected); each tried with the
+// clearances in turn; nothing when the membrane crosses something too.
+// `blend` receives how far along the way it is.
+std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vector<Vec3>& candidate,
+                                             double& blend) {
+  blend = 0;
+  const EmbedDomain& domain = level.domain;
+  const std::vector<Vec3> membrane_shape = membrane_embed(domain);
+  for (double clearance : clearances(domain, level.obstacles)) {
+    std::vector<Vec3> start = candidate;
+    clear_obstacles(domain, level.obstacles, clearance, start);
+    if (crosses_nothing(domain, level.contact, start, level.energy)) return start;
+    if (!level.obstacles.empty()) {
+      start = candidate;
+      lift_over_obstacles(domain, level.obstacles, clearance, start);
+      if (crosses_nothing(domain, level.contact, start, level.energy)) return start;
+    }
+    std::vector<Vec3> membrane = membrane_shape;
+    clear_obstacles(domain, level.obstacles, clearance, membrane);
+    if (!crosses_nothing(domain, level.contact, membrane, level.energy)) continue;
+    const auto mix = [&](double s) {
+      std::vector<Vec3> x = candidate;
+      for (int v = domain.fixed_count; v < domain.vertex_count(); ++v)
+        for (int c = 0; c < 3; ++c) x[v][c] = (1 - s) * candidate[v][c] + s * membrane_shape[v][c];
+      clear_obstacles(domain, level.obstacles, clearance, x);
+      return x;
+    };
+    double clean = 1, crossing = 0;
+    for (int step = 0; step < kBlendSteps; ++step) {
+      const double s = 0.5 * (clean + crossing);
+      (crosses_nothing(domain, level.contact, mix(s), level.energy) ? clean : crossing) = s;
+    }
+    blend = clean;
+    return clean == 1 ? membrane : mix(clean);
+  }
+  return std::nullopt;
+}
+
+// ---- The minimisation ----------------------------------------------------------
+
+SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
+                      const std::vector<Vec3>& start, const SolverOptions& solver,
+                      const Budget& budget) {
+  const PatchObjective objective(energy, contact);
+  return minimize(objective, energy.variables(start), solver, budget);
+}
+
+// The start of the minimisation over plan.domain and its kind: the domain's
+// ARAP start, or with the fast solver and a large patch its coarser levels,
+// the coarsest from ARAP, each minimised and interpolated onto the next finer
+// one; each level's start made clean (clean_start). A coarse level with no
+// clean start ends the coarse levels: the domain then starts from ARAP.
+struct Start {
+  std::vector<Vec3> positions;
+  StartKind kind = StartKind::Arap;
+  double blend = 0;
+};
+
+Start place_start(const FillContext& context, const HolePlan& plan, const PatchScene& scene,
+                  const SceneObstacles& obstacles, const EnergyOptions& energy_options,
+                  const SolverOptions& solver, const FabricEnergy& energy,
+                  const PatchContact& contact, const Budget& budget) {
+  const FillOptions& options = context.options;
+  std::vector<EmbedDomain> levels;
+  // The coarse-to-fine start is the fast solver's: gradient descent follows
+  // the paper (ARAP, then descent), the reference the fast solver is held to.
+  if (solver.kind == SolverKind::Fast)
+    levels = coarser_levels(plan.strip, plan.flat, options.triangulate, plan.domain,
+                            options.multilevel);
+  Start start;
+  std::optional<std::vector<Vec3>> coarse;  // the finest coarse level's result, interpolated
+  for (size_t k = levels.size(); k-- > 0 && !budget.spent();) {
+    const EmbedDomain& level = levels[k];
+    const FabricEnergy level_energy(level, energy_options);
+    const PatchContact level_contact(level, scene, options.contact);
+    const Level here{level, level_energy, level_contact, obstacles.normalised};
+    double blend = 0;
+    const std::optional<std::vector<Vec3>> from = clean_start(
+        here, coarse ? std::move(*coarse) : arap_embed(level, options.arap, budget), blend);
+    if (!from) {
+      coarse.reset();
+      break;
+    }
+    const SolverResult solved = minimise(level_energy, &level_contact, *from, solver, budget);
+    if (solved.stop_reason == StopReason::Cancelled)
+      throw Error(ErrorKind::FillFailed, "cancelled");
+    const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
+    coarse = interpolate_patch(level, level_energy.positions(solved.x), finer);
+  }
+  const Level fine{plan.domain, energy, contact, obstacles.normalised};
+  // An interpolated coarse level can cross something where the finer
+  // triangles cut across a tight fold: the domain then starts from ARAP.
+  if (coarse) {
+    clear_obstacles(plan.domain, obstacles.normalised, kObstacleClearance, *coarse);
+    if (crosses_nothing(plan.domain, contact, *coarse, energy)) {
+      start.positions = std::move(*coarse);
+      start.kind = StartKind::CoarseLevels;
+      return start;
+    }
+  }
+  std::vector<Vec3> arap = arap_embed(plan.domain, options.arap, budget);
+  if (std::optional<std::vector<Vec3>> clean = clean_start(fine, arap, start.blend)) {
+    start.positions = std::move(*clean);
+    start.kind = start.blend > 0 ? StartKind::TowardsMembrane : StartKind::Arap;
+    return start;
+  }
+  clear_obstacles(plan.domain, obstacles.normalised, kObstacleClearance, arap);
+  start.positions = std::move(arap);
+  start.kind = StartKind::Unguarded;
+  return start;
 }
 
 bool all_finite(const std::vector<Vec3>& positions) {
@@ -276,16 +614,21 @@ bool all_finite(const std::vector<Vec3>& positions) {
 // the output (measure_crossings), which adds them.
 std::string patch_warning(const HoleReport& report, const std::string& where) {
   std::string warning;
-  if (report.stop_reason == "diverged")
+  if (report.stop_reason == StopReason::Diverged)
     warning = "the minimisation diverged after " + std::to_string(report.iterations) +
               " iterations; its lowest-energy state was kept";
-  if (report.stop_reason == "time_limit")
+  if (report.stop_reason == StopReason::TimeLimit)
     warning = "the time limit stopped the minimisation after " + std::to_string(report.iterations) +
               " iterations";
+  if (report.start == StartKind::Unguarded)
+    warning += (warning.empty() ? "" : "; ") +
+               std::string("no start that crosses nothing was found (the ARAP start and the "
+                           "membrane both cross something): minimised without the guarantee");
   return warning.empty() ? warning : where + ": " + warning;
 }
 
-HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
+HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
+                        const Surroundings& around) {
   const FillOptions& options = context.options;
   HolePatch result;
   HoleReport& report = result.report;
@@ -296,98 +639,91 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop) {
   // The time limit counts from here; flattening and triangulation run to
   // their end, the start and the minimisation stop where it passes.
   const Budget budget(options.solver.time_limit_seconds, &context.cancelled);
-
   const std::string where = hole_source(context.source, loop.id);
-  throw_if_cancelled(context, where);
-  const Strip strip = extract_strip(context.mesh, context.vertex_faces, loop, context.source);
-  Flattening flat = flatten_strip(strip, where);
-  report.seconds.flatten = seconds_since(start);
 
+  // Plan.
+  throw_if_cancelled(context, where);
+  const HolePlan plan = plan_hole(context, loop, report);
+  const EmbedDomain& domain = plan.domain;
+
+  // The weights, and what the patch must not cross.
+  throw_if_cancelled(context, where);
   auto stage = Clock::now();
-  const FlatPatch patch = triangulate_hole(hole_polygon(strip, flat), options.triangulate);
-  report.seconds.triangulate = seconds_since(stage);
-  report.min_angle_deg = patch.min_angle_deg;
-  report.share_below_20deg = patch.share_below_20deg;
-  report.flat_area = patch.area;
-  if (options.keep_flat) {
-    report.flat_strip = flat_mesh(flat.uv, strip.faces);
-    report.flat_patch = flat_mesh(patch.uv, patch.faces);
-  }
-
-  throw_if_cancelled(context, where);
-  stage = Clock::now();
-  const EmbedDomain domain = make_embed_domain(strip, flat, patch);
-  report.length_scale = domain.length_scale;
   EnergyOptions energy_options = options.energy;
   SolverOptions solver = options.solver;
   if (options.prototype)
     apply_prototype_weights(*options.prototype, domain.length_scale, energy_options, solver);
-  std::vector<Obstacle> obstacles;
-  for (const Obstacle& o : options.obstacles) {
-    obstacles.push_back(normalized(o, domain.origin, domain.length_scale));
-  }
-  if (options.progress) {
-    solver.progress = [&](const SolverProgress& p) {
-      if (context.cancelled.load(std::memory_order_relaxed)) return false;
-      if (options.progress(loop.id, p)) return true;
-      context.cancelled = true;
-      return false;
-    };
-  }
-  const auto minimise_level = [&](const EmbedDomain& level, const std::vector<Vec3>& from) {
-    return minimise_coarse_level(level, from, energy_options, solver, obstacles, budget);
+  report.lambda = energy_options.lambda;
+  report.repulsion = energy_options.repulsion;
+  solver.progress = [&](const SolverProgress& p) {
+    if (options.solver.progress && !options.solver.progress(p)) context.cancelled = true;
+    if (options.progress && !options.progress(loop.id, p)) context.cancelled = true;
+    return !context.cancelled.load(std::memory_order_relaxed);
   };
-  // The coarse-to-fine start is the fast solver's: gradient descent follows
-  // the paper (ARAP, then descent), the reference the fast solver is held to.
-  MultilevelOptions multilevel = options.multilevel;
-  multilevel.enabled = multilevel.enabled && solver.kind == SolverKind::Fast;
-  const std::vector<Vec3> initial = multilevel_start(
-      strip, flat, options.triangulate, domain, options.arap, multilevel, minimise_level, budget);
+  SceneObstacles obstacles;
+  const PatchScene scene = make_scene(context, plan, around, obstacles);
+  report.obstacle_allowance = obstacles.allowance;
+  const FabricEnergy energy(domain, energy_options);
+  const PatchContact contact(domain, scene, options.contact);
+
+  // Start.
+  const Start initial =
+      place_start(context, plan, scene, obstacles, energy_options, solver, energy, contact, budget);
+  report.start = initial.kind;
+  report.start_blend = initial.blend;
   report.seconds.arap = seconds_since(stage);
 
+  // Minimise.
   throw_if_cancelled(context, where);
   stage = Clock::now();
-  const Minimised minimised =
-      minimise_patch(domain, initial, energy_options, solver, obstacles, budget, report);
-  const SolverResult& solved = minimised.solved;
+  const bool guarded = initial.kind != StartKind::Unguarded;
+  const SolverResult solved =
+      minimise(energy, guarded ? &contact : nullptr, initial.positions, solver, budget);
+  report.iterations = solved.iterations;
+  report.stop_reason = solved.stop_reason;
   report.seconds.optimize = seconds_since(stage);
-  if (solved.stop_reason == "cancelled") throw Error(ErrorKind::FillFailed, where + ": cancelled");
-  if (!all_finite(solved.positions))
-    throw Error(ErrorKind::FillFailed,
-                where + ": the patch has non-finite positions (stop: " + solved.stop_reason + ")");
+  if (solved.stop_reason == StopReason::Cancelled)
+    throw Error(ErrorKind::FillFailed, where + ": cancelled");
+  const std::vector<Vec3> final_positions = energy.positions(solved.x);
+  if (!all_finite(final_positions))
+    throw Error(ErrorKind::FillFailed, where + ": the patch has non-finite positions (stop: " +
+                                           to_string(solved.stop_reason) + ")");
   report.warning = patch_warning(report, where);
 
-  const PatchState after_arap = measure(*minimised.energy, initial);
-  const PatchState final_state = measure(*minimised.energy, solved.positions);
-  report.energy_after_arap = after_arap.energy;
+  // Measure.
+  const PatchState after_start = measure(energy, initial.positions);
+  const PatchState final_state = measure(energy, final_positions);
+  report.energy_after_arap = after_start.energy;
   report.energy_final = final_state.energy;
-  report.gaussian_mean_abs_after_arap = after_arap.curvature.mean_abs;
-  report.gaussian_variance_after_arap = after_arap.curvature.variance;
+  report.gaussian_mean_abs_after_arap = after_start.curvature.mean_abs;
+  report.gaussian_variance_after_arap = after_start.curvature.variance;
   report.gaussian_mean_abs_final = final_state.curvature.mean_abs;
   report.gaussian_variance_final = final_state.curvature.variance;
-  report.edge_length_rms_rel_after_arap = after_arap.edge_length_rms_rel;
+  report.edge_length_rms_rel_after_arap = after_start.edge_length_rms_rel;
   report.edge_length_rms_rel_final = final_state.edge_length_rms_rel;
   const double scale2 = domain.length_scale * domain.length_scale;
   report.area_ratio_to_flat =
-      total_area(solved.positions, patch_faces(domain)) * scale2 / patch.area;
+      total_area(final_positions, patch_faces(domain)) * scale2 / plan.patch.area;
 
   // Back to the mesh's units. Patch vertex k < loop_size is loop vertex k;
   // the domain's free vertices are the patch's interior vertices, in order.
-  for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) {
-    const Vec3& x = solved.positions[v];
-    result.new_positions.push_back({domain.origin[0] + domain.length_scale * x[0],
-                                    domain.origin[1] + domain.length_scale * x[1],
-                                    domain.origin[2] + domain.length_scale * x[2]});
-  }
-  result.faces = patch.faces;
+  for (int v = domain.fixed_count; v < domain.vertex_count(); ++v)
+    result.new_positions.push_back(in_mesh_units(final_positions[v], domain));
+  if (!std::all_of(result.new_positions.begin(), result.new_positions.end(),
+                   [&](const Vec3& p) { return inside(around.reach, p); }))
+    report.warning += (report.warning.empty() ? where + ": " : std::string("; ")) +
+                      "the patch left the region its collisions were checked in";
+  result.faces = plan.patch.faces;
   report.patch_vertex_count = static_cast<int>(result.new_positions.size());
   report.patch_face_count = static_cast<int>(result.faces.size());
-  report.flattening_fit = std::move(flat);
+  report.flattening_fit = plan.flat;
   report.flattening_fit.uv.clear();
   report.filled = true;
   report.seconds.total = seconds_since(start);
   return result;
 }
+
+// ---- Stitching -------------------------------------------------------------------
 
 // Appends a filled hole's vertices and faces to `mesh`.
 void stitch(const HolePatch& patch, Mesh& mesh) {
@@ -423,8 +759,53 @@ void stitch_all(const std::vector<HolePatch>& patches, Mesh& mesh) {
     if (patch.report.filled) stitch(patch, mesh);
 }
 
-// Fills the holes in parallel; a hole that fails or is cancelled comes back
-// unfilled with its reason.
+// ---- All holes ---------------------------------------------------------------------
+
+// The holes (positions in `boxes`) grouped by overlapping reach, each group
+// ascending, groups in order of their first hole.
+std::vector<std::vector<int>> overlap_groups(const std::vector<Box3>& boxes) {
+  const int n = static_cast<int>(boxes.size());
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  // Sweep along x: a box meets only those that start before it ends.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return boxes[a].low[0] < boxes[b].low[0]; });
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n && boxes[order[j]].low[0] <= boxes[order[i]].high[0]; ++j)
+      if (boxes_overlap(boxes[order[i]], boxes[order[j]]))
+        parent[std::max(root(order[i]), root(order[j]))] = std::min(root(order[i]), root(order[j]));
+  std::vector<std::vector<int>> groups;
+  std::vector<int> group_of(n, -1);
+  for (int i = 0; i < n; ++i) {
+    int& g = group_of[root(i)];
+    if (g < 0) {
+      g = static_cast<int>(groups.size());
+      groups.emplace_back();
+    }
+    groups[g].push_back(i);
+  }
+  return groups;
+}
+
+HolePatch unfilled(const FillContext& context, const BoundaryLoop& loop,
+                   const std::string& message) {
+  // Stages that do not know the file and the loop get them here.
+  const std::string where = hole_source(context.source, loop.id);
+  HolePatch patch;
+  patch.report.loop_id = loop.id;
+  patch.report.loop_vertex_count = static_cast<int>(loop.vertices.size());
+  patch.report.reason = message.rfind(where + ": ", 0) == 0 ? message : where + ": " + message;
+  return patch;
+}
+
+// Fills the holes, groups in parallel; a hole that fails or is cancelled
+// comes back unfilled with its reason.
 std::vector<HolePatch> fill_patches(const FillContext& context,
                                     const std::vector<BoundaryLoop>& loops,
                                     const std::vector<int>& fill_ids) {
@@ -433,29 +814,50 @@ std::vector<HolePatch> fill_patches(const FillContext& context,
       throw Error(ErrorKind::Usage, context.source + ": no loop with id " + std::to_string(id) +
                                         " (the mesh has " + std::to_string(loops.size()) +
                                         " loops)");
-  std::vector<HolePatch> patches(fill_ids.size());
-  // One hole: no parallel region, whose idle threads would only wait (and
+  const int count = static_cast<int>(fill_ids.size());
+  std::vector<Box3> reach(count);
+  for (int h = 0; h < count; ++h) reach[h] = reach_box(loops[fill_ids[h]]);
+  const std::vector<std::vector<int>> nearby =
+      faces_near_boxes(context.mesh.positions, context.mesh.faces, reach);
+  const std::vector<std::vector<int>> groups = overlap_groups(reach);
+  std::vector<HolePatch> patches(count);
+  // One group: no parallel region, whose idle threads would only wait (and
   // spin, with libgomp's default wait policy) for it.
-#pragma omp parallel for schedule(dynamic, 1) if (fill_ids.size() > 1)
-  for (int h = 0; h < static_cast<int>(fill_ids.size()); ++h) {
-    const BoundaryLoop& loop = loops[fill_ids[h]];
-    try {
-      patches[h] = fill_one_hole(context, loop);
-    } catch (const std::exception& e) {
-      // Stages that do not know the file and the loop get them here.
-      const std::string where = hole_source(context.source, loop.id);
-      const std::string message = e.what();
-      patches[h] = HolePatch{};
-      patches[h].report.loop_id = loop.id;
-      patches[h].report.loop_vertex_count = static_cast<int>(loop.vertices.size());
-      patches[h].report.reason =
-          message.rfind(where + ": ", 0) == 0 ? message : where + ": " + message;
+#pragma omp parallel for schedule(dynamic, 1) if (groups.size() > 1)
+  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+    for (size_t k = 0; k < groups[g].size(); ++k) {
+      const int h = groups[g][k];
+      const BoundaryLoop& loop = loops[fill_ids[h]];
+      Surroundings around{reach[h], &nearby[h], {}};
+      for (size_t e = 0; e < k; ++e)
+        if (patches[groups[g][e]].report.filled &&
+            boxes_overlap(reach[h], reach[groups[g][e]]))
+          around.earlier.push_back(&patches[groups[g][e]]);
+      try {
+        patches[h] = fill_one_hole(context, loop, around);
+      } catch (const std::exception& e) {
+        patches[h] = unfilled(context, loop, e.what());
+      }
     }
   }
   return patches;
 }
 
 }  // namespace
+
+const char* to_string(StartKind start) {
+  switch (start) {
+    case StartKind::Arap:
+      return "arap";
+    case StartKind::CoarseLevels:
+      return "coarse_levels";
+    case StartKind::TowardsMembrane:
+      return "towards_membrane";
+    case StartKind::Unguarded:
+      return "unguarded";
+  }
+  return "arap";
+}
 
 FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options,
@@ -466,6 +868,7 @@ FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
 FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options,
                       const std::string& source) {
+  check_options(options, source);
   const auto start = Clock::now();
   FillReport report;
   std::vector<HolePatch> patches;

@@ -66,7 +66,9 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
     report.seconds.total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - hole_start).count();
     report.filled = !faces.empty();
-    report.stop_reason = fair ? "faired" : "fairing failed";
+    if (!fair)
+      report.warning = source + ": loop " + std::to_string(id) +
+                       ": CGAL's fairing failed; the refined patch is kept unfaired";
     if (!report.filled)
       report.reason = source + ": loop " + std::to_string(id) + ": CGAL found no triangulation";
     report.patch_vertex_count = static_cast<int>(vertices.size());

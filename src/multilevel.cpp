@@ -11,7 +11,6 @@
 #include <string>
 
 #include "foldfill/error.h"
-#include "foldfill/metrics.h"
 
 namespace foldfill {
 namespace {
@@ -153,33 +152,29 @@ std::vector<Vec3> interpolate_patch(const EmbedDomain& coarse,
   return positions;
 }
 
-std::vector<Vec3> multilevel_start(const Strip& strip, const Flattening& flat,
-                                   const TriangulateOptions& triangulate, const EmbedDomain& domain,
-                                   const ArapOptions& arap, const MultilevelOptions& options,
-                                   const LevelMinimiser& minimise, const Budget& budget) {
-  if (!options.enabled || domain.free_count() < options.min_patch_vertices || budget.spent())
-    return arap_embed(domain, arap, budget);
+std::vector<EmbedDomain> coarser_levels(const Strip& strip, const Flattening& flat,
+                                        const TriangulateOptions& triangulate,
+                                        const EmbedDomain& domain,
+                                        const MultilevelOptions& options) {
+  std::vector<EmbedDomain> levels;
+  if (options.min_patch_vertices <= 0 || domain.free_count() < options.min_patch_vertices)
+    return levels;
   if (!(options.coarsening > 1))
     throw Error(ErrorKind::Usage,
                 "multilevel coarsening must be above 1, not " + std::to_string(options.coarsening));
   TriangulateOptions coarser = triangulate;
-  coarser.density /= options.coarsening;
-  const EmbedDomain coarse =
-      make_embed_domain(strip, flat, triangulate_hole(hole_polygon(strip, flat), coarser));
-  // Along a loop of long edges a coarser density can leave the patch as it
-  // is; recursing would then never end.
-  if (coarse.free_count() >= domain.free_count()) return arap_embed(domain, arap, budget);
-  const std::vector<Vec3> coarse_start =
-      multilevel_start(strip, flat, coarser, coarse, arap, options, minimise, budget);
-  const std::optional<std::vector<Vec3>> coarse_end = minimise(coarse, coarse_start);
-  if (!coarse_end) return arap_embed(domain, arap, budget);
-  std::vector<Vec3> start = interpolate_patch(coarse, *coarse_end, domain);
-  // Where the coarse patch folds tightly, a finer triangle across the fold
-  // can cut through the next layer (the Curtain's hole at 2174 vertices from
-  // 519: 51 pairs), and the minimisation cannot pull it back out.
-  if (count_self_intersections(start, domain.faces, domain.strip_face_count) > 0)
-    return arap_embed(domain, arap, budget);
-  return start;
+  int finer_free_count = domain.free_count();
+  while (finer_free_count >= options.min_patch_vertices) {
+    coarser.density /= options.coarsening;
+    EmbedDomain level =
+        make_embed_domain(strip, flat, triangulate_hole(hole_polygon(strip, flat), coarser));
+    // Along a loop of long edges a coarser density can leave the patch as it
+    // is; coarsening would then never end.
+    if (level.free_count() >= finer_free_count) break;
+    finer_free_count = level.free_count();
+    levels.push_back(std::move(level));
+  }
+  return levels;
 }
 
 }  // namespace foldfill

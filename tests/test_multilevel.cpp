@@ -67,19 +67,14 @@ TEST(Multilevel, RefusesDomainsOfDifferentHoles) {
   EXPECT_THROW(interpolate_patch(coarse, coarse_positions, fine), Error);
 }
 
-TEST(Multilevel, SmallPatchStartsFromArapWithoutCoarserLevels) {
+TEST(Multilevel, SmallPatchHasNoCoarserLevels) {
   const Hole hole(folded_sheet_with_hole(0.08).cut.mesh);
   const EmbedDomain domain = hole.domain(1);
   MultilevelOptions options;
   options.min_patch_vertices = domain.free_count() + 1;
-  int minimised = 0;
-  const auto count = [&](const EmbedDomain&, const std::vector<Vec3>& start) {
-    ++minimised;
-    return start;
-  };
-  EXPECT_EQ(multilevel_start(hole.strip, hole.flat, {}, domain, {}, options, count),
-            arap_embed(domain));
-  EXPECT_EQ(minimised, 0);
+  EXPECT_TRUE(coarser_levels(hole.strip, hole.flat, {}, domain, options).empty());
+  options.min_patch_vertices = 0;  // never
+  EXPECT_TRUE(coarser_levels(hole.strip, hole.flat, {}, domain, options).empty());
 }
 
 TEST(Multilevel, LevelsCoarsenDownToTheThreshold) {
@@ -89,63 +84,23 @@ TEST(Multilevel, LevelsCoarsenDownToTheThreshold) {
   const EmbedDomain domain = hole.domain(triangulate.density);
   MultilevelOptions options;
   options.min_patch_vertices = 100;
-  std::vector<int> level_sizes;
-  const auto record = [&](const EmbedDomain& level, const std::vector<Vec3>& start) {
-    level_sizes.push_back(level.free_count());
-    return start;
-  };
-  const std::vector<Vec3> start =
-      multilevel_start(hole.strip, hole.flat, triangulate, domain, {}, options, record);
-  EXPECT_EQ(start.size(), domain.rest_uv.size());
-  // Coarsest first; only the coarsest is below the threshold; a quarter of
-  // the vertices per level, give or take the boundary.
-  ASSERT_GE(level_sizes.size(), 2u);
-  EXPECT_LT(level_sizes.front(), options.min_patch_vertices);
-  level_sizes.push_back(domain.free_count());
-  for (size_t k = 1; k < level_sizes.size(); ++k) {
-    EXPECT_GE(level_sizes[k], options.min_patch_vertices);
-    EXPECT_GT(level_sizes[k], 2.5 * level_sizes[k - 1]);
-    EXPECT_LT(level_sizes[k], 5.5 * level_sizes[k - 1]);
+  const std::vector<EmbedDomain> levels =
+      coarser_levels(hole.strip, hole.flat, triangulate, domain, options);
+  // Finest first; only the coarsest is below the threshold; a quarter of the
+  // vertices per level, give or take the boundary; all share the strip.
+  ASSERT_GE(levels.size(), 2u);
+  std::vector<int> sizes{domain.free_count()};
+  for (const EmbedDomain& level : levels) {
+    sizes.push_back(level.free_count());
+    EXPECT_EQ(level.fixed_positions, domain.fixed_positions);
+    EXPECT_EQ(level.length_scale, domain.length_scale);
   }
-}
-
-// A sheet's hole meshed at density 2, whose start has one coarser level.
-struct TwoLevels {
-  Hole hole{folded_sheet_with_hole(0.08).cut.mesh};
-  EmbedDomain domain = hole.domain(2);
-
-  std::vector<Vec3> start(const LevelMinimiser& minimise) const {
-    TriangulateOptions triangulate;
-    triangulate.density = 2;
-    MultilevelOptions options;
-    options.min_patch_vertices = domain.free_count();
-    return multilevel_start(hole.strip, hole.flat, triangulate, domain, {}, options, minimise);
+  EXPECT_LT(sizes.back(), options.min_patch_vertices);
+  for (size_t k = 1; k < sizes.size(); ++k) {
+    EXPECT_GE(sizes[k - 1], options.min_patch_vertices);
+    EXPECT_GT(sizes[k - 1], 2.5 * sizes[k]);
+    EXPECT_LT(sizes[k - 1], 5.5 * sizes[k]);
   }
-};
-
-TEST(Multilevel, ACoarseLevelFoldedThroughItselfGivesWayToArap) {
-  const TwoLevels levels;
-  // The half u > 0 folded over onto the half u < 0, through it at u = 1.
-  const auto fold_through = [](const EmbedDomain& level, const std::vector<Vec3>& start) {
-    std::vector<Vec3> folded = start;
-    for (int v = level.fixed_count; v < level.vertex_count(); ++v) {
-      const double u = level.rest_uv[v][0], w = level.rest_uv[v][1];
-      folded[v] = u < 0 ? Vec3{u, w, 0} : Vec3{-u, w, 0.3 * (u - 1)};
-    }
-    return folded;
-  };
-  EXPECT_EQ(levels.start(fold_through), arap_embed(levels.domain));
-}
-
-TEST(Multilevel, ACoarseLevelThatGivesNothingGivesWayToArap) {
-  const TwoLevels levels;
-  int minimised = 0;
-  const auto no_start = [&](const EmbedDomain&, const std::vector<Vec3>&) {
-    ++minimised;
-    return std::optional<std::vector<Vec3>>{};
-  };
-  EXPECT_EQ(levels.start(no_start), arap_embed(levels.domain));
-  EXPECT_EQ(minimised, 1);
 }
 
 TEST(Multilevel, RefusesACoarseningThatDoesNotCoarsen) {
@@ -154,8 +109,7 @@ TEST(Multilevel, RefusesACoarseningThatDoesNotCoarsen) {
   MultilevelOptions options;
   options.min_patch_vertices = 1;
   options.coarsening = 1;
-  const auto identity = [](const EmbedDomain&, const std::vector<Vec3>& start) { return start; };
-  EXPECT_THROW(multilevel_start(hole.strip, hole.flat, {}, domain, {}, options, identity), Error);
+  EXPECT_THROW(coarser_levels(hole.strip, hole.flat, {}, domain, options), Error);
 }
 
 FillResult fill(const Mesh& mesh, const FillOptions& options) {
@@ -173,13 +127,14 @@ FillOptions multilevel_fill() {
 TEST(Multilevel, FillEndsAtTheSingleLevelEnergy) {
   const CutMesh cut = folded_sheet_with_hole(0.025);
   FillOptions single;
-  single.multilevel.enabled = false;
+  single.multilevel.min_patch_vertices = 0;
   const HoleReport one = fill(cut.cut.mesh, single).report.holes.at(0);
   const HoleReport multi = fill(cut.cut.mesh, multilevel_fill()).report.holes.at(0);
   ASSERT_TRUE(one.filled) << one.reason;
   ASSERT_TRUE(multi.filled) << multi.reason;
   ASSERT_GT(multi.patch_vertex_count, 900);
-  EXPECT_EQ(multi.stop_reason, "converged");
+  EXPECT_EQ(multi.stop_reason, StopReason::Converged);
+  EXPECT_EQ(multi.start, StartKind::CoarseLevels);
   EXPECT_EQ(multi.self_intersections, 0);
   EXPECT_NEAR(multi.energy_final.total / one.energy_final.total, 1, 0.01);
   // The coarse levels put the patch near its minimum already.
@@ -194,7 +149,7 @@ TEST(Multilevel, GradientDescentStartsFromArap) {
   options.solver.kind = SolverKind::GradientDescent;
   options.solver.max_iterations = 5;
   const FillResult multi = fill(cut.cut.mesh, options);
-  options.multilevel.enabled = false;
+  options.multilevel.min_patch_vertices = 0;
   const FillResult single = fill(cut.cut.mesh, options);
   ASSERT_TRUE(multi.report.holes.at(0).filled);
   ASSERT_GT(multi.report.holes.at(0).patch_vertex_count, 900);

@@ -31,4 +31,11 @@ struct ArapOptions {
 std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options = {},
                              const Budget& budget = {});
 
+// The taut membrane over the strip: the free vertices where the cotan
+// Laplacian of the flat rest state vanishes (each at the weighted mean of its
+// neighbours), the fixed ones in place. It lies within the convex hull of the
+// strip and, spanning the loop like a soap film, rarely crosses anything:
+// the fill falls back to it when its start does (see fill_holes).
+std::vector<Vec3> membrane_embed(const EmbedDomain& domain);
+
 }  // namespace foldfill

@@ -46,6 +46,13 @@ class FabricEnergy {
   // Energy at `x`; adds nothing to and fills `gradient` when non-null.
   EnergyTerms evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient = nullptr) const;
 
+  // The fast solver's preconditioner over the free vertices (per coordinate):
+  // the unit-weight Laplacian of the springs (the global matrix of projective
+  // dynamics, Bouaziz et al. 2014, used as an L-BFGS preconditioner by Liu et
+  // al. 2017) plus lambda times the bending part where it weighs enough (see
+  // energy.cpp). Constant: it does not depend on the positions.
+  Eigen::SparseMatrix<double> preconditioner() const;
+
   // Full domain positions from the free variables.
   std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
   // Free variables from full domain positions.

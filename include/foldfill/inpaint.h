@@ -1,5 +1,6 @@
-// The whole fill: per selected hole, flatten -> triangulate -> embed (ARAP,
-// then energy minimisation) -> stitch.
+// The whole fill: per selected hole, flatten -> triangulate -> embed (a
+// start that crosses nothing, then one minimisation that keeps it so) ->
+// stitch.
 #pragma once
 
 #include <functional>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "foldfill/arap.h"
+#include "foldfill/contact.h"
 #include "foldfill/energy.h"
 #include "foldfill/holes.h"
 #include "foldfill/mesh.h"
@@ -32,12 +34,17 @@ struct FillOptions {
   ArapOptions arap;
   EnergyOptions energy;
   SolverOptions solver;
+  // The barrier and step bound that keep the patch from crossing itself, the
+  // mesh and the obstacles (contact.h).
+  ContactOptions contact;
   std::vector<Obstacle> obstacles;  // in the mesh's units
   // With the fast solver, large patches start from a coarser fill of the same
   // hole instead of ARAP (see multilevel.h); `arap` then places the coarsest
   // level. Gradient descent always starts from ARAP, as in the paper.
   MultilevelOptions multilevel;
-  // When set, replaces energy.lambda, energy.repulsion and solver.step per hole.
+  // The prototype's weights in the mesh's units, mapped per hole onto
+  // energy.lambda, energy.repulsion and solver.step; those must then be left
+  // at their defaults (fill_holes throws Error(Usage) otherwise).
   std::optional<PrototypeWeights> prototype;
   bool keep_flat = false;  // keep the flat strip and patch in the report
   // Called per hole and iteration with (loop id, progress), from the threads
@@ -58,6 +65,21 @@ struct Crossings {
   int total() const { return patch_patch + patch_mesh + patch_obstacles; }
 };
 
+// Where a patch's minimisation started from.
+enum class StartKind {
+  Arap,          // the ARAP start of section 3.3
+  CoarseLevels,  // the minimised coarser levels, interpolated (multilevel.h)
+  // Part of the way from the membrane (membrane_embed) to the ARAP start:
+  // the ARAP start crossed something, the membrane did not.
+  TowardsMembrane,
+  // No start that crosses nothing was found: the patch was minimised without
+  // the contact's guarantee (its crossings are in the report).
+  Unguarded,
+};
+
+// "arap", "coarse_levels", "towards_membrane", "unguarded".
+const char* to_string(StartKind start);
+
 struct HoleReport {
   int loop_id = 0;
   bool filled = false;
@@ -65,8 +87,12 @@ struct HoleReport {
   int loop_vertex_count = 0;
   int patch_vertex_count = 0;  // new (interior) vertices
   int patch_face_count = 0;
-  int iterations = 0;
-  std::string stop_reason;
+  int iterations = 0;  // of the minimisation of the patch (not of its coarser levels)
+  StopReason stop_reason = StopReason::Converged;
+  StartKind start = StartKind::Arap;
+  // How far the start is from the ARAP start towards the membrane (0: it is
+  // the ARAP start; 1: the membrane) with StartKind::TowardsMembrane.
+  double start_blend = 0;
   // Set when the patch was kept but the minimisation did not end normally (it
   // diverged: the lowest-energy state seen was kept; a time limit stopped it),
   // or when the fill crosses itself, the rest of the mesh or an obstacle.
@@ -86,13 +112,12 @@ struct HoleReport {
   // obstacles: 0 where they touch or cross; at most kCrossingReach (nothing
   // nearer).
   double min_distance = 0;
+  // How deep (in units of length_scale) the patch may reach into an
+  // analytic obstacle: as deep as the strip around the hole already does,
+  // plus the gap of the obstacle's triangulation the contact sees.
+  double obstacle_allowance = 0;
   double repulsion = 0;  // the repulsion weight the patch was minimised with
-  // The bending weight the patch was finally minimised with: the one asked
-  // for, or a stiffer one when that one's patch intersected itself.
-  double lambda = 0;
-  // How many times the patch was minimised again, stiffer, because it
-  // intersected itself (0: the first minimisation came out clean).
-  int stiffened_retries = 0;
+  double lambda = 0;     // the bending weight the patch was minimised with
   double flat_area = 0;           // area of the flat patch (mesh units)
   double area_ratio_to_flat = 0;  // 3D patch area / flat patch area
   double length_scale = 0;        // the hole's unit (mean loop edge length)
@@ -115,10 +140,27 @@ struct FillResult {
 };
 
 // Fills the loops `fill_ids` of `loops` (from find_boundary_loops(mesh)).
-// Holes are independent and filled in parallel; the result does not depend on
-// the thread count (unless a time limit stops a minimisation). The work per
-// hole follows the size of the hole and its patch, not the mesh's: the faces
-// around each vertex are indexed once (build_vertex_faces) and shared.
+//
+// Per hole (Gisbert et al. 2023, section 3): plan (the strip, its LSCM
+// flattening, the flat patch, the normalised domain), start (ARAP from the
+// shrunk rest shape, or the hole's coarser levels, each minimised and
+// interpolated onto the next), one minimisation of the fabric energy, then
+// the measurements of the report. The patch must not cross anything: itself,
+// its strip, the rest of the mesh within its reach (other layers of the
+// cloth, other parts of the garment), the obstacles. Every minimisation
+// starts from a state that crosses nothing, checked with exact predicates
+// (where the ARAP start does cross something, the start is moved towards the
+// membrane until it does not), and keeps it so by the contact's barrier and
+// step bound (contact.h). The output's crossings are then counted on the
+// whole output (measure_crossings): 0 unless no clean start was found
+// (StartKind::Unguarded, with a warning).
+//
+// Holes whose reach (a box around the loop that the patch cannot leave)
+// overlaps another's are filled one after the other, in the order of
+// `fill_ids`, each seeing the patches of the ones before; the others in
+// parallel. The result does not depend on the thread count (unless a time
+// limit stops a minimisation). The work per hole follows the size of the
+// hole, its patch and its surroundings, not the mesh's.
 //
 // A hole that cannot be filled is left open and reported with its reason,
 // "SOURCE: loop ID: problem": a loop that is not a disk boundary or whose
@@ -129,13 +171,15 @@ struct FillResult {
 // Limits: options.solver.max_iterations bounds each minimisation of a hole;
 // options.solver.time_limit_seconds the hole's fill, counted from its start:
 // flattening and triangulation run to their end, the start (ARAP, coarse
-// levels) and the minimisation with its retries stop when it passes (see
-// Budget), and the hole keeps the state reached (stop reason "time_limit"). When the
-// progress callback returns false, the fill is cancelled: the holes being
-// minimised then and the ones not started are left open with the reason
-// "cancelled", report.cancelled is set, and holes already finished stay
-// filled. A minimisation that diverges keeps its lowest-energy state, with
-// HoleReport::warning saying so. Throws Error(Usage) for an id not in `loops`.
+// levels) and the minimisation stop when it passes (see Budget), and the hole
+// keeps the state reached (stop reason TimeLimit). When the progress callback
+// returns false, the fill is cancelled: the holes being minimised then and
+// the ones not started are left open with the reason "cancelled",
+// report.cancelled is set, and holes already finished stay filled. A
+// minimisation that diverges keeps its lowest-energy state, with
+// HoleReport::warning saying so. Throws Error(Usage) for an id not in `loops`
+// and for options that contradict each other (prototype weights with lambda,
+// repulsion or the descent step set too).
 FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                       const std::vector<int>& fill_ids, const FillOptions& options = {},
                       const std::string& source = "mesh");
@@ -165,7 +209,8 @@ constexpr double kObstacleTolerance = 1e-9;
 // intersect by the rules of count_self_intersections: faces that share a
 // vertex or an edge only when they intersect beyond it. patch_obstacles
 // counts the new faces that cross into an obstacle (see crosses(), with
-// kObstacleTolerance times the length scale). The work follows the holes: one
+// the larger of kObstacleTolerance and the hole's obstacle_allowance times the
+// length scale: a mesh obstacle is crossed at any depth). The work follows the holes: one
 // pass over the faces finds those near each patch, and the pairs are found in
 // a grid over those alone (count_subset_crossings). Holes are measured in
 // parallel; the result does not depend on the thread count.

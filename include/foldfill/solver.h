@@ -1,14 +1,16 @@
-// Minimisation of the fabric energy.
+// Minimisation of a patch's energy: the paper's gradient descent and a fast
+// preconditioned L-BFGS, both keeping every step within the bound the
+// objective sets (the contact's, so that nothing crosses during a step).
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <functional>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "foldfill/budget.h"
 #include "foldfill/energy.h"
-#include "foldfill/obstacles.h"
 
 namespace foldfill {
 
@@ -16,6 +18,17 @@ enum class SolverKind {
   GradientDescent,  // the paper's fixed-step descent, kept for reference
   Fast,             // the default (see solver.cpp for the method)
 };
+
+enum class StopReason {
+  Converged,      // the energy stopped changing, or no step lowers it any more
+  MaxIterations,  // SolverOptions::max_iterations reached
+  TimeLimit,      // the budget's deadline or SolverOptions::time_limit_seconds passed
+  Cancelled,      // the budget was cancelled or the progress callback returned false
+  Diverged,       // the energy became non-finite or grew far beyond its start
+};
+
+// "converged", "max_iterations", "time_limit", "cancelled", "diverged".
+const char* to_string(StopReason reason);
 
 struct SolverProgress {
   int iteration = 0;
@@ -29,45 +42,72 @@ struct SolverOptions {
   double step = 0.05;  // gradient descent: fixed step (normalised units)
   // Stop when |dE| / E stays below this for 10 iterations in a row (unset:
   // the method's own, 1e-9 for gradient descent, 1e-7 for Fast, which leave
-  // each about as close to its minimum: see solver.cpp) ...
+  // each about as close to its minimum: see docs/benchmarks.md) ...
   std::optional<double> relative_energy_tol;
   double gradient_tol = 1e-6;     // ... or when the RMS gradient per vertex falls below this
   double time_limit_seconds = 0;  // 0: none
-  // Fast: no vertex moves further than this in one step (normalised units), so
-  // that the repulsion sees vertices approach before they pass each other;
-  // each vertex's move is clipped on its own. Two vertices close in by at most
-  // 0.4 per step, well under the about one edge length a vertex must travel
-  // to cross a sheet covered by repulsion balls (radius 1 / 1.3 of the
-  // shortest edge). 0.2 instead of 0.1 took 14% to 45% fewer iterations on
-  // the reference and cloth cases (7% more on contour), with the same
-  // energies and no new self-intersections.
+  // Fast: no vertex moves further than this in one step (normalised units);
+  // each vertex's move is clipped on its own, so that a few vertices asking
+  // for long moves while the folds form do not shorten everyone's step.
   double max_displacement = 0.2;
+  // Fast: curvature pairs kept by L-BFGS.
+  int lbfgs_memory = 10;
   // Called every iteration; returning false cancels (the best state is kept).
   std::function<bool(const SolverProgress&)> progress;
-  // Called once, after iteration `watch_iteration` (0: never), with the
-  // positions then (all domain vertices, normalised); returning false abandons
-  // the minimisation there (stop reason "abandoned", the best state kept).
-  int watch_iteration = 0;
-  std::function<bool(const std::vector<Vec3>&)> watch;
+};
+
+// What the solver minimises, over variables that are 3 coordinates per vertex.
+class Objective {
+ public:
+  virtual ~Objective() = default;
+  // Number of variables (3 per vertex).
+  virtual Eigen::Index size() const = 0;
+  // The value at `x`, +infinity where `x` is not allowed (two primitives in
+  // contact); fills `gradient` when non-null and the value is finite.
+  virtual double value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const = 0;
+  // A constant symmetric positive definite matrix over the vertices
+  // (size() / 3 square, the same for each coordinate) that approximates the
+  // Hessian: the fast solver's preconditioner, factored once.
+  virtual Eigen::SparseMatrix<double> preconditioner() const = 0;
+  // The largest t in [0, 1] such that x + s dx stays allowed for every s in
+  // [0, t]: 1 when nothing limits the step.
+  virtual double step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const {
+    (void)x;
+    (void)dx;
+    return 1;
+  }
 };
 
 struct SolverResult {
-  std::vector<Vec3> positions;  // all domain vertices, normalised
+  Eigen::VectorXd x;  // the lowest-energy state seen
   int iterations = 0;
-  // "converged", "max_iterations", "time_limit", "cancelled", "abandoned", "diverged"
-  std::string stop_reason;
+  StopReason stop_reason = StopReason::Converged;
 };
 
-// Minimises `energy` from `start` (all domain vertices), keeping free vertices
-// outside `obstacles` (in normalised coordinates) by projection. It stops at
-// the earlier of `budget`'s deadline and options.time_limit_seconds from the
-// call (stop reason "time_limit"), or when `budget` is cancelled
-// ("cancelled"), keeping the best state: both are looked at before each
-// iteration and before each trial point of the line search, so the work past
-// them is at most one energy evaluation, or the preconditioner's
-// factorisation when they pass during it.
-SolverResult minimize_energy(const FabricEnergy& energy, const std::vector<Obstacle>& obstacles,
-                             const std::vector<Vec3>& start, const SolverOptions& options = {},
-                             const Budget& budget = {});
+// Minimises `objective` from `start`, every step shortened to the
+// objective's step bound. It stops at the earlier of `budget`'s deadline and
+// options.time_limit_seconds from the call (TimeLimit), or when `budget` is
+// cancelled (Cancelled), keeping the best state: both are looked at before
+// each iteration and before each trial point of the line search, so the work
+// past them is at most one evaluation, or the preconditioner's factorisation
+// when they pass during it. A start where the objective is not finite is
+// returned as Diverged after 0 iterations. Throws Error(Usage) for a bad
+// gradient descent step, Error(Internal) for a start of the wrong size.
+SolverResult minimize(const Objective& objective, const Eigen::VectorXd& start,
+                      const SolverOptions& options = {}, const Budget& budget = {});
+
+// The fabric energy alone as an Objective (no contact, nothing bounds a step).
+class FabricObjective final : public Objective {
+ public:
+  explicit FabricObjective(const FabricEnergy& energy) : energy_(energy) {}
+  Eigen::Index size() const override { return 3 * energy_.domain().free_count(); }
+  double value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const override {
+    return energy_.evaluate(x, gradient).total;
+  }
+  Eigen::SparseMatrix<double> preconditioner() const override { return energy_.preconditioner(); }
+
+ private:
+  const FabricEnergy& energy_;
+};
 
 }  // namespace foldfill

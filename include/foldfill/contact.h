@@ -1,0 +1,107 @@
+// What keeps a patch from crossing anything while it is minimised: a log
+// barrier on the distances between the patch's primitives and everything
+// around it (the patch itself, its strip, the rest of the mesh within reach,
+// the obstacles as triangles) below a thickness, and a bound on each step so
+// that no pair crosses during it (Incremental Potential Contact, Li et al.
+// 2020; the step bound by Additive CCD, Li et al. 2021). A minimisation that
+// starts with nothing crossing and keeps every step within the bound ends
+// with nothing crossing.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "foldfill/collision.h"
+#include "foldfill/domain.h"
+#include "foldfill/energy.h"
+#include "foldfill/solver.h"
+
+namespace foldfill {
+
+struct ContactOptions {
+  // The barrier acts between primitives closer than this (normalised: units
+  // of the hole's length scale, the mean loop edge length).
+  double thickness = 0.1;
+  // Weight of the barrier relative to the isometric term.
+  double stiffness = 1;
+  // Candidate pairs are searched within thickness + skin and kept while no
+  // vertex has moved more than skin / 2 (for the barrier), or while twice that
+  // move plus twice the step's longest stays within thickness + skin (for the
+  // step bound); normalised.
+  double skin = 0.8;
+  CcdOptions ccd;
+};
+
+// Fixed triangles a patch must not cross besides its own strip, in the
+// domain's normalised coordinates: the faces of the mesh near the hole, other
+// holes' patches, obstacles. Vertex indices below the domain's fixed_count
+// are the domain's fixed vertices (the strip's: a face that shares one of
+// them with the strip says so); index fixed_count + k is positions[k].
+struct PatchScene {
+  std::vector<Vec3> positions;
+  std::vector<Tri> faces;
+};
+
+// The barrier and the step bound of one patch (domain + scene). Variables
+// are the domain's free vertices (3 each, as FabricEnergy's). Evaluation
+// reuses scratch buffers and a candidate list, so one object must not be used
+// from two threads at once; results do not depend on the thread count.
+class PatchContact {
+ public:
+  PatchContact(const EmbedDomain& domain, const PatchScene& scene, const ContactOptions& options);
+
+  // stiffness * sum of the barrier over the pairs closer than the thickness;
+  // +infinity where a pair touches. Adds stiffness * its gradient to
+  // `gradient` (3 per free vertex) when non-null.
+  double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const;
+  // The largest t in [0, 1] such that no pair comes into contact on the step
+  // x + s dx, s in [0, t] (conservative, see collision_step_bound).
+  double step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const;
+  // The smallest distance between two primitives that may not touch (a free
+  // one and any other that shares no vertex with it), or `limit` when none
+  // is nearer (normalised).
+  double min_distance(const Eigen::VectorXd& x, double limit) const;
+
+  // The collision mesh's positions with the free vertices at `x`: its faces
+  // (mesh().faces) are the domain's, in order, then the scene's.
+  std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
+
+  const ContactOptions& options() const { return options_; }
+  const CollisionMesh& mesh() const { return broad_phase_.mesh(); }
+
+ private:
+  // All collision-mesh positions with the free ones from x.
+  const double* place(const Eigen::VectorXd& x) const;
+  void refresh_candidates() const;
+  void select_candidates(double distance) const;
+  double drift() const;
+
+  ContactOptions options_;
+  int fixed_count_ = 0;  // of the collision mesh: the domain's fixed vertices and the scene's
+  mutable CollisionBroadPhase broad_phase_;
+  mutable std::vector<double> points_, anchor_, displacement_, gradient_;
+  // Candidates near the anchor, their distances there, and those a call uses.
+  mutable CollisionCandidates candidates_, active_;
+  mutable std::vector<double> point_triangle_distance_, edge_edge_distance_;
+  mutable bool has_candidates_ = false;
+};
+
+// The fabric energy plus the contact's barrier, bounded by its steps: what
+// the solver minimises for a patch that must not cross anything. Without a
+// contact, the fabric energy alone.
+class PatchObjective final : public Objective {
+ public:
+  PatchObjective(const FabricEnergy& energy, const PatchContact* contact)
+      : energy_(energy), contact_(contact) {}
+
+  Eigen::Index size() const override { return 3 * energy_.domain().free_count(); }
+  double value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const override;
+  Eigen::SparseMatrix<double> preconditioner() const override { return energy_.preconditioner(); }
+  double step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const override;
+
+ private:
+  const FabricEnergy& energy_;
+  const PatchContact* contact_;
+};
+
+}  // namespace foldfill

@@ -1,0 +1,231 @@
+// The barrier and step bound of a patch (see contact.h). The collision mesh
+// numbers its vertices [domain's fixed | scene's | domain's free], so that
+// the fixed ones come first, as CollisionMesh wants, and the free ones are
+// the variables in order.
+#include "foldfill/contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <cstdio>
+#include <cstdlib>
+
+#include "foldfill/error.h"
+
+namespace foldfill {
+namespace {
+
+// The domain's faces and the scene's in the collision mesh's numbering.
+std::vector<Tri> collision_faces(const EmbedDomain& domain, const PatchScene& scene) {
+  const int fixed = domain.fixed_count;
+  const int scene_count = static_cast<int>(scene.positions.size());
+  const int limit = fixed + scene_count;
+  std::vector<Tri> faces;
+  faces.reserve(domain.faces.size() + scene.faces.size());
+  for (Tri f : domain.faces) {
+    for (int& v : f) v = v < fixed ? v : v + scene_count;
+    faces.push_back(f);
+  }
+  for (const Tri& f : scene.faces) {
+    for (int v : f)
+      if (v < 0 || v >= limit)
+        throw Error(ErrorKind::Internal, "contact: a scene face has vertex " + std::to_string(v) +
+                                             " of " + std::to_string(limit));
+    faces.push_back(f);
+  }
+  return faces;
+}
+
+std::vector<double> fixed_points(const EmbedDomain& domain, const PatchScene& scene) {
+  std::vector<double> points;
+  points.reserve(3 * (domain.fixed_positions.size() + scene.positions.size() +
+                      static_cast<size_t>(domain.free_count())));
+  for (const Vec3& p : domain.fixed_positions) points.insert(points.end(), p.begin(), p.end());
+  for (const Vec3& p : scene.positions) points.insert(points.end(), p.begin(), p.end());
+  points.resize(points.size() + 3 * static_cast<size_t>(domain.free_count()), 0.0);
+  return points;
+}
+
+void check_options(const ContactOptions& options) {
+  const auto positive = [](double w) { return std::isfinite(w) && w > 0; };
+  if (!positive(options.thickness) || !positive(options.stiffness) || !positive(options.skin))
+    throw Error(ErrorKind::Usage, "contact: thickness, stiffness and skin must be positive");
+}
+
+}  // namespace
+
+PatchContact::PatchContact(const EmbedDomain& domain, const PatchScene& scene,
+                           const ContactOptions& options)
+    : options_(options),
+      fixed_count_(domain.fixed_count + static_cast<int>(scene.positions.size())) {
+  check_options(options);
+  const std::vector<Tri> faces = collision_faces(domain, scene);
+  points_ = fixed_points(domain, scene);
+  const int vertex_count = fixed_count_ + domain.free_count();
+  broad_phase_ =
+      CollisionBroadPhase(make_collision_mesh(faces, vertex_count, fixed_count_), points_.data());
+  displacement_.assign(points_.size(), 0.0);
+}
+
+const double* PatchContact::place(const Eigen::VectorXd& x) const {
+  const size_t offset = 3 * static_cast<size_t>(fixed_count_);
+  if (static_cast<size_t>(x.size()) + offset != points_.size())
+    throw Error(ErrorKind::Internal, "contact: " + std::to_string(x.size()) +
+                                         " variables for a patch of " +
+                                         std::to_string((points_.size() - offset) / 3) +
+                                         " free vertices");
+  std::copy(x.data(), x.data() + x.size(), points_.begin() + static_cast<std::ptrdiff_t>(offset));
+  return points_.data();
+}
+
+// Largest distance a free vertex has moved since the candidates were found.
+double PatchContact::drift() const {
+  double largest = 0;
+  for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
+    const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
+                 dz = points_[k + 2] - anchor_[k + 2];
+    largest = std::max(largest, dx * dx + dy * dy + dz * dz);
+  }
+  return std::sqrt(largest);
+}
+
+// The candidates within thickness + skin of the current points, their
+// distances there, and those points as the anchor they are valid around:
+// while no free vertex has moved more than `drift` from it, a pair closer
+// than thickness + skin - 2 drift is among them, with an anchor distance
+// below its distance + 2 drift.
+void PatchContact::refresh_candidates() const {
+  const double reach = options_.thickness + options_.skin;
+  broad_phase_.find(points_.data(), nullptr, reach, candidates_);
+  keep_candidates_within(mesh(), points_.data(), reach, candidates_);
+  const CollisionMesh& m = mesh();
+  const double* p = points_.data();
+  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  point_triangle_distance_.clear();
+  for (const IndexPair& pair : candidates_.point_triangle) {
+    const Tri& f = m.faces[pair[1]];
+    point_triangle_distance_.push_back(std::sqrt(point_triangle_distance_squared(
+        point(pair[0]), point(f[0]), point(f[1]), point(f[2]))));
+  }
+  edge_edge_distance_.clear();
+  for (const IndexPair& pair : candidates_.edge_edge) {
+    const auto& a = m.edges[pair[0]];
+    const auto& b = m.edges[pair[1]];
+    edge_edge_distance_.push_back(std::sqrt(
+        edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1]))));
+  }
+  anchor_ = points_;
+  has_candidates_ = true;
+}
+
+// The candidates whose anchor distance is below `distance` into active_.
+void PatchContact::select_candidates(double distance) const {
+  active_.point_triangle.clear();
+  active_.edge_edge.clear();
+  for (size_t k = 0; k < candidates_.point_triangle.size(); ++k)
+    if (point_triangle_distance_[k] < distance)
+      active_.point_triangle.push_back(candidates_.point_triangle[k]);
+  for (size_t k = 0; k < candidates_.edge_edge.size(); ++k)
+    if (edge_edge_distance_[k] < distance) active_.edge_edge.push_back(candidates_.edge_edge[k]);
+}
+
+double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
+  place(x);
+  double moved = has_candidates_ ? drift() : 0;
+  if (!has_candidates_ || 2 * moved > options_.skin) {
+    refresh_candidates();
+    moved = 0;
+  }
+  select_candidates(options_.thickness + 2 * moved);
+  double* full_gradient = nullptr;
+  if (gradient) {
+    gradient_.assign(points_.size(), 0.0);
+    full_gradient = gradient_.data();
+  }
+  const double value = barrier_potential(mesh(), points_.data(), active_, options_.thickness,
+                                         options_.stiffness, full_gradient);
+  if (gradient && std::isfinite(value)) {
+    const size_t offset = 3 * static_cast<size_t>(fixed_count_);
+    for (Eigen::Index k = 0; k < gradient->size(); ++k)
+      (*gradient)[k] += gradient_[offset + static_cast<size_t>(k)];
+  }
+  return value;
+}
+
+double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const {
+  place(x);
+  const size_t offset = 3 * static_cast<size_t>(fixed_count_);
+  std::copy(dx.data(), dx.data() + dx.size(),
+            displacement_.begin() + static_cast<std::ptrdiff_t>(offset));
+  double largest_move = 0;
+  for (Eigen::Index k = 0; k + 2 < dx.size(); k += 3)
+    largest_move = std::max(largest_move, dx.segment<3>(k).squaredNorm());
+  largest_move = std::sqrt(largest_move);
+  // Two primitives that meet during the step are now closer than their
+  // relative move, at most twice the largest: the candidates hold every such
+  // pair while that and twice the drift stay within their reach. A step too
+  // long for any list is searched along its swept boxes.
+  const double reach = options_.thickness + options_.skin;
+  if (2 * largest_move > 0.5 * reach) {
+    broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
+    return collision_step_bound(mesh(), points_.data(), displacement_.data(), active_,
+                                options_.ccd);
+  }
+  double moved = has_candidates_ ? drift() : 0;
+  if (!has_candidates_ || 2 * largest_move + 2 * moved > reach) {
+    refresh_candidates();
+    moved = 0;
+  }
+  select_candidates(2 * largest_move + 2 * moved);
+  return collision_step_bound(mesh(), points_.data(), displacement_.data(), active_,
+                              options_.ccd);
+}
+
+double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const {
+  const double* p = place(x);
+  CollisionCandidates near;
+  broad_phase_.find(p, nullptr, limit, near);
+  const CollisionMesh& m = mesh();
+  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  double smallest = limit * limit;
+  for (const IndexPair& pair : near.point_triangle) {
+    const Tri& f = m.faces[pair[1]];
+    smallest = std::min(smallest, point_triangle_distance_squared(point(pair[0]), point(f[0]),
+                                                                  point(f[1]), point(f[2])));
+  }
+  for (const IndexPair& pair : near.edge_edge) {
+    const auto& a = m.edges[pair[0]];
+    const auto& b = m.edges[pair[1]];
+    smallest = std::min(smallest, edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]),
+                                                             point(b[1])));
+  }
+  return std::sqrt(smallest);
+}
+
+std::vector<Vec3> PatchContact::positions(const Eigen::VectorXd& x) const {
+  const double* p = place(x);
+  std::vector<Vec3> result(points_.size() / 3);
+  for (size_t v = 0; v < result.size(); ++v) result[v] = {p[3 * v], p[3 * v + 1], p[3 * v + 2]};
+  return result;
+}
+
+double PatchObjective::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const {
+  const double t = contact_ ? contact_->step_bound(x, dx) : 1.0;
+  if (std::getenv("FF_DEBUG")) {
+    Eigen::VectorXd g(x.size());
+    g.setZero();
+    const double e = value(x, &g);
+    std::fprintf(stderr, "t %.3g E %.8g |g| %.3g |dx|max %.3g\n", t, e, g.norm(), dx.cwiseAbs().maxCoeff());
+  }
+  return t;
+}
+
+double PatchObjective::value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
+  const double fabric = energy_.evaluate(x, gradient).total;
+  if (!contact_) return fabric;
+  const double barrier = contact_->evaluate(x, gradient);
+  return std::isfinite(barrier) ? fabric + barrier : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace foldfill
