@@ -7,7 +7,11 @@
 // them, the broad phase along the step (swept boxes) and the step bound
 // (Additive CCD over those pairs); "all" adds the stages of the recipe. The
 // step moves the patch by up to about one edge, partly through the layer.
-// Prints markdown: medians in milliseconds.
+// Prints markdown: medians in milliseconds. Then the cost of one triangle
+// against an analytic obstacle (triangle_obstacle_distance, with and without
+// its gradient, and triangle_obstacle_ccd), in nanoseconds per call, over
+// random unit triangles within about one radius of a unit sphere, a cylinder
+// and a plane, with steps of about one radius towards them.
 //
 //   build/bench/bench_collision [--runs N] [--threads N] [--dhat D] [--skin S]
 #include <omp.h>
@@ -21,6 +25,7 @@
 
 #include "bench_timing.h"
 #include "foldfill/collision.h"
+#include "foldfill/obstacles.h"
 
 namespace {
 
@@ -72,6 +77,68 @@ Scene make_scene(int n, double gap) {
 
 const double* flat(const std::vector<Vec3>& v) { return v.data()->data(); }
 
+// Nanoseconds per call of the obstacle queries on `count` random triangles
+// with steps, for a sphere, a cylinder (capsule) and a plane. Returns a sum
+// of the results, to keep the calls.
+double bench_obstacles(int runs) {
+  const int count = 4096;
+  std::mt19937 random(23);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  const auto point = [&](double scale) {
+    return Vec3{scale * uniform(random), scale * uniform(random), scale * uniform(random)};
+  };
+  std::vector<Obstacle> obstacles(3);
+  obstacles[0].type = Obstacle::Type::Sphere;
+  obstacles[0].radius = 1;
+  obstacles[1].type = Obstacle::Type::Cylinder;
+  obstacles[1].radius = 1;
+  obstacles[1].height = 4;
+  obstacles[1].axis = {0, 0.6, 0.8};
+  obstacles[2].type = Obstacle::Type::Plane;
+  obstacles[2].normal = {0, 0.6, 0.8};
+  // Corners within 1 of a point at 2 from the origin; steps towards it.
+  std::vector<std::array<Vec3, 6>> triangles(count);
+  for (auto& t : triangles) {
+    Vec3 centre = point(1);
+    const double length =
+        std::sqrt(centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2]) + 1e-9;
+    for (double& c : centre) c *= 2 / length;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 offset = point(0.6);
+      t[k] = {centre[0] + offset[0], centre[1] + offset[1], centre[2] + offset[2]};
+      const Vec3 jitter = point(0.3);
+      t[3 + k] = {-0.8 * centre[0] + jitter[0], -0.8 * centre[1] + jitter[1],
+                  -0.8 * centre[2] + jitter[2]};
+    }
+  }
+  double sum = 0;
+  std::printf(
+      "\n| obstacle | distance ns | distance + gradient ns | ccd ns |\n|---|---|---|---|\n");
+  const char* names[3] = {"sphere", "cylinder", "plane"};
+  for (int type = 0; type < 3; ++type) {
+    const Obstacle& o = obstacles[type];
+    const double per_call = 1e6 / count;  // ms per sweep to ns per call
+    const double distance_ns = per_call * bench::median_ms(runs, [&] {
+                                 for (const auto& t : triangles)
+                                   sum += triangle_obstacle_distance(o, t[0], t[1], t[2]);
+                               });
+    std::array<Vec3, 3> gradient;
+    const double gradient_ns = per_call * bench::median_ms(runs, [&] {
+                                 for (const auto& t : triangles) {
+                                   sum +=
+                                       triangle_obstacle_distance(o, t[0], t[1], t[2], &gradient);
+                                   sum += gradient[0][0];
+                                 }
+                               });
+    const double ccd_ns = per_call * bench::median_ms(runs, [&] {
+                            for (const auto& t : triangles)
+                              sum += triangle_obstacle_ccd(o, t[0], t[1], t[2], t[3], t[4], t[5]);
+                          });
+    std::printf("| %s | %.0f | %.0f | %.0f |\n", names[type], distance_ns, gradient_ns, ccd_ns);
+  }
+  return sum;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,5 +185,6 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     if (!(potential >= 0)) return 1;
   }
+  if (!std::isfinite(bench_obstacles(runs))) return 1;
   return 0;
 }

@@ -3,7 +3,10 @@
 // Additive CCD on known crossings and a property test on random steps
 // (checked by a Lipschitz bound on sampled distances and by CGAL's exact
 // orientation); the box tree and the collision broad phase against brute
-// force; the step bound and the barrier potential over a mesh.
+// force; the step bound and the barrier potential over a mesh; a triangle
+// against analytic obstacles (segment-triangle distance, the obstacle
+// distance and its CCD) against sampling, finite differences and a property
+// test on random steps.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -19,6 +22,7 @@
 #include "foldfill/box_tree.h"
 #include "foldfill/collision.h"
 #include "foldfill/error.h"
+#include "foldfill/obstacles.h"
 
 namespace foldfill {
 namespace {
@@ -1242,6 +1246,514 @@ TEST(BarrierPotential, GradientAndCompleteness) {
       EXPECT_NEAR(gradient[3 * v + c], fd, 1e-5 * largest) << v << " " << c;
     }
   }
+}
+
+// ---------------------------------------------------------------------------
+// Triangles against analytic obstacles
+
+Obstacle sphere_obstacle(const Vec3& center, double radius) {
+  Obstacle o;
+  o.type = Obstacle::Type::Sphere;
+  o.center = center;
+  o.radius = radius;
+  return o;
+}
+Obstacle cylinder_obstacle(const Vec3& center, const Vec3& axis, double height, double radius) {
+  Obstacle o;
+  o.type = Obstacle::Type::Cylinder;
+  o.center = center;
+  o.axis = unit(axis);
+  o.height = height;
+  o.radius = radius;
+  return o;
+}
+Obstacle plane_obstacle(const Vec3& point, const Vec3& normal) {
+  Obstacle o;
+  o.type = Obstacle::Type::Plane;
+  o.center = point;
+  o.normal = unit(normal);
+  return o;
+}
+
+// A random obstacle of the given type (0 sphere, 1 cylinder, 2 plane) about
+// the unit cube.
+Obstacle random_obstacle(Random& random, int type) {
+  if (type == 0) return sphere_obstacle(random.point(-0.5, 0.5), random.uniform(0.1, 1.2));
+  if (type == 1)
+    return cylinder_obstacle(random.point(-0.5, 0.5), random.direction(), random.uniform(0, 2),
+                             random.uniform(0.05, 0.8));
+  return plane_obstacle(random.point(-0.5, 0.5), random.direction());
+}
+
+// The signed distance of the solid that triangle_obstacle_distance measures:
+// the sphere, the capsule around a cylinder's axis segment, the half-space.
+double solid_distance(const Obstacle& o, const Vec3& p) {
+  if (o.type != Obstacle::Type::Cylinder) return signed_distance(o, p);
+  const Vec3 half = mul(o.axis, 0.5 * o.height);
+  return segment_distance(p, sub(o.center, half), add(o.center, half)) - o.radius;
+}
+
+// The least of f over a barycentric grid of n steps of the triangle: an upper
+// bound of its minimum, within (longest edge) / n of it for a 1-Lipschitz f.
+double sampled_minimum(const std::array<Vec3, 3>& t, int n,
+                       const std::function<double(const Vec3&)>& f) {
+  double best = HUGE_VAL;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+      best = std::min(best, f(add(t[0], add(mul(sub(t[1], t[0]), double(i) / n),
+                                            mul(sub(t[2], t[0]), double(j) / n)))));
+  return best;
+}
+
+double longest_edge(const std::array<Vec3, 3>& t) {
+  return std::max({norm(sub(t[1], t[0])), norm(sub(t[2], t[1])), norm(sub(t[0], t[2]))});
+}
+
+// Compares `gradient` (of f at x) with central differences of step h,
+// coordinate by coordinate, to `tolerance`; skips (and counts) a coordinate
+// where the forward and backward differences disagree by more than that: f
+// has a kink (a tie of two nearest pairs) within h, where no difference
+// quotient is the derivative.
+template <size_t N>
+void expect_gradient_away_from_ties(const std::function<double(const std::array<Vec3, N>&)>& f,
+                                    const std::array<Vec3, N>& x,
+                                    const std::array<Vec3, N>& gradient, double h, double tolerance,
+                                    int& checked, int& skipped) {
+  const double f0 = f(x);
+  for (size_t k = 0; k < N; ++k) {
+    for (int c = 0; c < 3; ++c) {
+      std::array<Vec3, N> plus = x, minus = x;
+      plus[k][c] += h;
+      minus[k][c] -= h;
+      const double fp = f(plus), fm = f(minus);
+      const double forward = (fp - f0) / h, backward = (f0 - fm) / h;
+      // The one-sided quotients differ by O(h f'') where f is smooth.
+      if (std::abs(forward - backward) > 100 * tolerance) {
+        ++skipped;
+        continue;
+      }
+      ++checked;
+      EXPECT_NEAR(gradient[k][c], (fp - fm) / (2 * h), tolerance) << "point " << k << " axis " << c;
+    }
+  }
+}
+
+TEST(SegmentTriangleDistance, KnownAnswers) {
+  const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
+  std::array<Vec3, 5> g;
+  // Through the face: 0, with a zero gradient.
+  EXPECT_EQ(segment_triangle_distance_squared({0.2, 0.2, -1}, {0.2, 0.2, 1}, a, b, c, &g), 0);
+  for (const Vec3& v : g) EXPECT_EQ(norm(v), 0);
+  EXPECT_EQ(segment_triangle_distance_squared({0.2, 0.3, 1}, {0.1, 0.1, -2}, b, c, a), 0);
+  // Through an edge and through a corner: 0.
+  EXPECT_EQ(segment_triangle_distance_squared({0.5, 0, -1}, {0.5, 0, 1}, a, b, c), 0);
+  EXPECT_EQ(segment_triangle_distance_squared({0, 0, -1}, {0, 0, 1}, a, b, c), 0);
+  // An end over the face; the segment above it, parallel; beside it.
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({0.2, 0.2, 0.5}, {0.2, 0.2, 2}, a, b, c),
+                   0.25);
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({0.1, 0.1, 0.3}, {0.3, 0.2, 0.3}, a, b, c),
+                   0.09);
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({2, 2, -1}, {2, 2, 1}, a, b, c), 4.5);
+  // Across the line of edge ab, outside the triangle: the edge-edge pair.
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({0.5, -0.5, -1}, {0.5, -0.5, 1}, a, b, c),
+                   0.25);
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({-1, -1, 1}, {2, -1, 1}, a, b, c), 2);
+  // In the triangle's plane, across it: 0; inside it: 0.
+  EXPECT_EQ(segment_triangle_distance_squared({-1, 0.25, 0}, {2, 0.25, 0}, a, b, c), 0);
+  EXPECT_EQ(segment_triangle_distance_squared({0.1, 0.1, 0}, {0.2, 0.3, 0}, a, b, c), 0);
+  // A zero-length segment is a point.
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({0.3, 0.4, 2}, {0.3, 0.4, 2}, a, b, c), 4);
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({2, 0, 1}, {2, 0, 1}, a, b, c), 2);
+  // A collinear triangle is its segment: above it, across it, along it.
+  const Vec3 d{2, 0, 0};
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({0.5, -1, 1}, {0.5, 1, 1}, a, b, d), 1);
+  EXPECT_EQ(segment_triangle_distance_squared({0.5, -1, 0}, {0.5, 1, 0}, a, d, b), 0);
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({3, 0, 0}, {5, 0, 0}, a, b, d), 1);
+  // All of it in one point.
+  EXPECT_DOUBLE_EQ(segment_triangle_distance_squared({0, 0, 3}, {0, 0, 3}, a, a, a), 9);
+}
+
+// Random segments and triangles, many of them through each other: the exact
+// distance against the least exact point-triangle distance over points of
+// the segment (within one grid step of the truth), and the candidates'
+// minimum where they do not meet.
+TEST(SegmentTriangleDistance, AgainstSampling) {
+  Random random(41);
+  const int n = 2000;
+  int piercing = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vec3 a = random.point(), b = random.point(), c = random.point();
+    const Vec3 s0 = random.point(-2, 2);
+    // Half of them aimed through the triangle's centroid.
+    const Vec3 centroid = mul(add(add(a, b), c), 1.0 / 3);
+    const Vec3 s1 = trial % 2 ? random.point(-2, 2) : lerp(s0, centroid, random.uniform(0.5, 2));
+    const double exact = std::sqrt(segment_triangle_distance_squared(s0, s1, a, b, c));
+    double sampled = HUGE_VAL;
+    for (int i = 0; i <= n; ++i)
+      sampled = std::min(sampled, std::sqrt(point_triangle_distance_squared(
+                                      lerp(s0, s1, double(i) / n), a, b, c)));
+    EXPECT_LE(exact, sampled + 1e-12) << "trial " << trial;
+    EXPECT_LE(sampled - exact, norm(sub(s1, s0)) / n + 1e-12) << "trial " << trial;
+    piercing += exact == 0;
+  }
+  EXPECT_GT(piercing, 50);
+}
+
+TEST(SegmentTriangleDistance, GradientMatchesFiniteDifferences) {
+  Random random(42);
+  const std::function<double(const std::array<Vec3, 5>&)> f = [](const std::array<Vec3, 5>& x) {
+    return segment_triangle_distance_squared(x[0], x[1], x[2], x[3], x[4]);
+  };
+  int checked = 0, skipped = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const auto t = proper_triangle(random);
+    const std::array<Vec3, 5> x = {random.point(-2, 2), random.point(-2, 2), t[0], t[1], t[2]};
+    if (f(x) < 1e-2) continue;
+    std::array<Vec3, 5> g;
+    segment_triangle_distance_squared(x[0], x[1], x[2], x[3], x[4], &g);
+    // Translation invariance: the gradients sum to zero.
+    const Vec3 sum = add(add(add(g[0], g[1]), add(g[2], g[3])), g[4]);
+    EXPECT_LT(norm(sum), 1e-12);
+    expect_gradient_away_from_ties(f, x, g, 1e-6, 1e-6, checked, skipped);
+  }
+  std::printf("segment-triangle gradient: %d coordinates checked, %d skipped at ties\n", checked,
+              skipped);
+  EXPECT_LT(skipped, checked / 100);
+}
+
+TEST(ObstacleDistance, KnownAnswers) {
+  const Obstacle ball = sphere_obstacle({0, 0, 0}, 1);
+  const Vec3 a{-1, -1, 2}, b{2, -1, 2}, c{-1, 2, 2};  // over the centre, at z = 2
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(ball, a, b, c), 1);
+  std::array<Vec3, 3> g;
+  triangle_obstacle_distance(ball, a, b, c, &g);
+  // The nearest point (0, 0, 2) has weights (1/3, 1/3, 1/3) along +z.
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(g[k][2], 1.0 / 3, 1e-15);
+    EXPECT_NEAR(norm(g[k]), 1.0 / 3, 1e-15);
+  }
+  const Vec3 down{0, 0, -2}, deep{0, 0, -1.5};
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(ball, add(a, deep), add(b, deep), add(c, deep)),
+                   -0.5);  // minus the depth of the deepest point (0, 0, 0.5)
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(ball, add(a, down), add(b, down), add(c, down)),
+                   -1);  // through the centre: the gradient has no direction
+  triangle_obstacle_distance(ball, add(a, down), add(b, down), add(c, down), &g);
+  for (const Vec3& v : g) EXPECT_EQ(norm(v), 0);
+
+  // A cylinder along y of height 2 and radius 0.5: beside the side the
+  // capsule's value is the cylinder's distance; over a cap it is R less.
+  const Obstacle post = cylinder_obstacle({0, 0, 0}, {0, 1, 0}, 2, 0.5);
+  const Vec3 p{1.5, -0.5, -1}, q{1.5, 0.5, -1}, r{1.5, 0, 1};  // the plane x = 1.5
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(post, p, q, r), 1);
+  const Vec3 u{-1, 2, -1}, v{1, 2, -1}, w{0, 2, 1};  // the plane y = 2, across the axis
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(post, u, v, w), 0.5);
+  EXPECT_DOUBLE_EQ(signed_distance(post, {0, 2, 0}), 1);
+  // Through the axis segment: -R.
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(post, {-1, 0.3, -1}, {1, 0.3, -1}, {0, 0.3, 1}),
+                   -0.5);
+  // A degenerate cylinder of height 0 is a sphere.
+  const Obstacle disc = cylinder_obstacle({0, 0, 0}, {0, 1, 0}, 0, 1);
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(disc, a, b, c), 1);
+
+  // A plane: the lowest corner, with the normal as its gradient.
+  const Obstacle floor = plane_obstacle({0, 0, 1}, {0, 0, 1});
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(floor, {0, 0, 3}, {1, 0, 2}, {0, 1, 4}, &g), 1);
+  EXPECT_EQ(g[0], kZero);
+  EXPECT_EQ(g[1], (Vec3{0, 0, 1}));
+  EXPECT_EQ(g[2], kZero);
+  EXPECT_DOUBLE_EQ(triangle_obstacle_distance(floor, {0, 0, 3}, {1, 0, 0}, {0, 1, 4}), -1);
+  EXPECT_EQ(triangle_obstacle_distance(floor, {0, 0, 3}, {1, 0, 1}, {0, 1, 4}), 0);  // touching
+
+  // A mesh obstacle is not analytic.
+  Obstacle mesh;
+  mesh.type = Obstacle::Type::Mesh;
+  EXPECT_THROW(triangle_obstacle_distance(mesh, a, b, c), Error);
+  EXPECT_THROW(triangle_obstacle_ccd(mesh, a, b, c, down, down, down), Error);
+}
+
+// The value is the least signed distance of the solid (sphere, capsule,
+// half-space) over the triangle, outside and inside alike: against a dense
+// grid of the triangle. For a cylinder it is also at most the cylinder's own
+// least signed distance and at least that less R.
+TEST(ObstacleDistance, AgainstSampling) {
+  Random random(43);
+  const int n = 200;
+  int inside[3] = {0, 0, 0}, outside[3] = {0, 0, 0};
+  for (int trial = 0; trial < 900; ++trial) {
+    const int type = trial % 3;
+    const Obstacle o = random_obstacle(random, type);
+    const std::array<Vec3, 3> t = {random.point(-2, 2), random.point(-2, 2), random.point(-2, 2)};
+    const double exact = triangle_obstacle_distance(o, t[0], t[1], t[2]);
+    const double step = longest_edge(t) / n;
+    const double sampled =
+        sampled_minimum(t, n, [&](const Vec3& p) { return solid_distance(o, p); });
+    EXPECT_LE(exact, sampled + 1e-12) << "trial " << trial;
+    EXPECT_LE(sampled - exact, step + 1e-12) << "trial " << trial;
+    if (type == 1) {
+      const double cylinder =
+          sampled_minimum(t, n, [&](const Vec3& p) { return signed_distance(o, p); });
+      EXPECT_LE(exact, cylinder + 1e-12) << "trial " << trial;
+      EXPECT_GE(exact, cylinder - step - o.radius - 1e-12) << "trial " << trial;
+    }
+    (exact > 0 ? outside : inside)[type] += 1;
+  }
+  for (int type = 0; type < 3; ++type) {
+    EXPECT_GT(inside[type], 30) << type;
+    EXPECT_GT(outside[type], 30) << type;
+  }
+}
+
+// Triangles through the solid, with every corner outside it (the face
+// crosses) or one corner inside: never a positive value.
+TEST(ObstacleDistance, CrossingTrianglesAreNotPositive) {
+  Random random(44);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int type = trial % 3;
+    const Obstacle o = random_obstacle(random, type);
+    // A point inside the true solid (the cylinder, not only its capsule).
+    Vec3 inner;
+    do inner = random.point(-2, 2);
+    while (!(signed_distance(o, inner) < 0));
+    std::array<Vec3, 3> t;
+    if (trial % 2) {
+      // Corners on a circle of radius 5 around it, in a random plane.
+      const Vec3 n = random.direction();
+      const Vec3 e1 = unit(cross(n, random.direction())), e2 = cross(n, e1);
+      const double phase = random.uniform(0, 2 * M_PI);
+      for (int k = 0; k < 3; ++k) {
+        const double angle = phase + 2 * M_PI * k / 3;
+        t[k] = add(inner, add(mul(e1, 5 * std::cos(angle)), mul(e2, 5 * std::sin(angle))));
+      }
+    } else {
+      t = {inner, random.point(-3, 3), random.point(-3, 3)};
+    }
+    EXPECT_LE(triangle_obstacle_distance(o, t[0], t[1], t[2]), 0) << "trial " << trial;
+  }
+}
+
+TEST(ObstacleDistance, GradientMatchesFiniteDifferences) {
+  Random random(45);
+  int checked = 0, skipped = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
+    const Obstacle o = random_obstacle(random, trial % 3);
+    const auto t = proper_triangle(random);
+    const std::function<double(const std::array<Vec3, 3>&)> f = [&](const std::array<Vec3, 3>& x) {
+      return triangle_obstacle_distance(o, x[0], x[1], x[2]);
+    };
+    // Away from the centre or axis (where the value has a kink, -R).
+    if (f(t) < 1e-2 - o.radius) continue;
+    std::array<Vec3, 3> g;
+    triangle_obstacle_distance(o, t[0], t[1], t[2], &g);
+    const Vec3 sum = add(add(g[0], g[1]), g[2]);  // a unit direction: translation
+    EXPECT_NEAR(norm(sum), 1, 1e-12);
+    expect_gradient_away_from_ties(f, t, g, 1e-6, 1e-6, checked, skipped);
+  }
+  std::printf("obstacle distance gradient: %d coordinates checked, %d skipped at ties\n", checked,
+              skipped);
+  EXPECT_LT(skipped, checked / 100);
+}
+
+TEST(ObstacleDistance, ScaleInvariance) {
+  Random random(46);
+  for (int trial = 0; trial < 900; ++trial) {
+    const Obstacle o = random_obstacle(random, trial % 3);
+    const std::array<Vec3, 3> t = {random.point(-2, 2), random.point(-2, 2), random.point(-2, 2)};
+    for (const double scale : {1024.0, 1000.0}) {
+      Obstacle big = o;
+      big.center = mul(o.center, scale);
+      big.radius = o.radius * scale;
+      big.height = o.height * scale;
+      std::array<Vec3, 3> g, g_big;
+      const double d = triangle_obstacle_distance(o, t[0], t[1], t[2], &g);
+      const double d_big = triangle_obstacle_distance(big, mul(t[0], scale), mul(t[1], scale),
+                                                      mul(t[2], scale), &g_big);
+      if (scale == 1024) {
+        EXPECT_EQ(d_big, scale * d);  // exact scaling
+        EXPECT_EQ(g_big, g);
+      } else {
+        EXPECT_NEAR(d_big, scale * d, 1e-12 * scale) << "trial " << trial;
+        for (int k = 0; k < 3; ++k)
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(g_big[k][c], g[k][c], 1e-9);
+      }
+    }
+  }
+}
+
+TEST(ObstacleCcd, KnownAnswers) {
+  // A triangle 1 above a unit sphere's top, over its centre, falling by 2:
+  // contact at t = 0.5.
+  const Obstacle ball = sphere_obstacle({0, 0, 0}, 1);
+  const Vec3 a{-1, -1, 2}, b{2, -1, 2}, c{-1, 2, 2}, down{0, 0, -2};
+  const double on_ball = triangle_obstacle_ccd(ball, a, b, c, down, down, down);
+  EXPECT_GT(on_ball, 0.4);
+  EXPECT_LT(on_ball, 0.5);
+  // Tilting as it falls (corners at different speeds), contact later.
+  const double tilted = triangle_obstacle_ccd(ball, a, b, c, down, {0, 0, -1}, {0, 0, -3});
+  EXPECT_GT(tilted, 0.2);
+  EXPECT_LT(tilted, 0.5);
+  // Onto the side of a cylinder along y (radius 0.5, height 4) from 1 above.
+  const Obstacle post = cylinder_obstacle({0, 0, 0}, {0, 1, 0}, 4, 0.5);
+  const Vec3 p{-1, -1, 1.5}, q{1, -1, 1.5}, r{0, 1, 1.5};
+  const double on_post = triangle_obstacle_ccd(post, p, q, r, down, down, down);
+  EXPECT_GT(on_post, 0.4);
+  EXPECT_LT(on_post, 0.5);
+  // Onto a plane from 1 above: exactly where the gap falls to 0.1.
+  const Obstacle floor = plane_obstacle({0, 0, 1}, {0, 0, 1});
+  EXPECT_DOUBLE_EQ(triangle_obstacle_ccd(floor, a, b, c, down, down, down), 0.45);
+  // Tilted: corner b reaches z = 1.1 first, at 0.9 / 3.
+  EXPECT_DOUBLE_EQ(triangle_obstacle_ccd(floor, a, b, c, down, {0, 0, -3}, {0, 0, 1}), 0.3);
+
+  // Near misses: falling past the sphere 0.6 from it; past the cylinder's
+  // end; parallel to the plane.
+  const Vec3 far_a{1.6, -0.2, 3}, far_b{2, 0.2, 3}, far_c{2, -0.2, 3}, fall{0, 0, -6};
+  EXPECT_EQ(triangle_obstacle_ccd(ball, far_a, far_b, far_c, fall, fall, fall), 1);
+  const Vec3 beyond{0, 4, 0};  // the nearest corner 1 beyond the end, the capsule's R = 0.5
+  EXPECT_EQ(
+      triangle_obstacle_ccd(post, add(p, beyond), add(q, beyond), add(r, beyond), down, down, down),
+      1);
+  const Vec3 slide{5, -3, 0};
+  EXPECT_EQ(triangle_obstacle_ccd(floor, a, b, c, slide, slide, slide), 1);
+  // Sliding along the cylinder at a constant distance.
+  const Vec3 along{0, 1, 0};
+  EXPECT_EQ(triangle_obstacle_ccd(post, p, q, r, along, along, along), 1);
+  // Moving away.
+  const Vec3 up{0, 0, 3};
+  EXPECT_EQ(triangle_obstacle_ccd(ball, a, b, c, up, up, up), 1);
+  EXPECT_EQ(triangle_obstacle_ccd(post, p, q, r, up, up, up), 1);
+  EXPECT_EQ(triangle_obstacle_ccd(floor, a, b, c, up, up, up), 1);
+  // Not moving.
+  EXPECT_EQ(triangle_obstacle_ccd(ball, a, b, c, kZero, kZero, kZero), 1);
+  EXPECT_EQ(triangle_obstacle_ccd(floor, a, b, c, kZero, kZero, kZero), 1);
+  // Starting in contact (or touching): 0, whatever the motion.
+  const Vec3 sunk{0, 0, -1.5};
+  EXPECT_EQ(triangle_obstacle_ccd(ball, add(a, sunk), add(b, sunk), add(c, sunk), up, up, up), 0);
+  EXPECT_EQ(triangle_obstacle_ccd(post, {-1, 0, 0}, {1, 0, 0}, {0, 1, 1}, up, up, up), 0);
+  EXPECT_EQ(triangle_obstacle_ccd(floor, {0, 0, 1}, b, c, up, up, up), 0);
+  EXPECT_EQ(triangle_obstacle_ccd(floor, {0, 0, 1}, b, c, kZero, kZero, kZero), 0);
+  // t_max bounds the answer, and a lower t_max does not change a time below it.
+  CcdOptions options;
+  options.t_max = 0.3;
+  EXPECT_EQ(triangle_obstacle_ccd(ball, a, b, c, down, down, down, options), 0.3);
+  EXPECT_EQ(triangle_obstacle_ccd(floor, a, b, c, down, down, down, options), 0.3);
+  EXPECT_EQ(triangle_obstacle_ccd(ball, a, b, c, up, up, up, options), 0.3);
+  options.t_max = 0.48;
+  EXPECT_EQ(triangle_obstacle_ccd(ball, a, b, c, down, down, down, options), on_ball);
+}
+
+TEST(ObstacleCcd, ScaleInvariance) {
+  Random random(47);
+  for (int trial = 0; trial < 600; ++trial) {
+    const Obstacle o = random_obstacle(random, trial % 3);
+    std::array<Vec3, 6> x;
+    for (Vec3& v : x) v = random.point(-2, 2);
+    const double toi = triangle_obstacle_ccd(o, x[0], x[1], x[2], x[3], x[4], x[5]);
+    for (const double scale : {1024.0, 1000.0}) {
+      Obstacle big = o;
+      big.center = mul(o.center, scale);
+      big.radius = o.radius * scale;
+      big.height = o.height * scale;
+      std::array<Vec3, 6> y;
+      for (int k = 0; k < 6; ++k) y[k] = mul(x[k], scale);
+      const double scaled = triangle_obstacle_ccd(big, y[0], y[1], y[2], y[3], y[4], y[5]);
+      if (scale == 1024) {
+        EXPECT_EQ(scaled, toi) << "trial " << trial;
+      } else {
+        EXPECT_NEAR(scaled, toi, 1e-9) << "trial " << trial;
+      }
+    }
+  }
+}
+
+// Random triangles in [-2, 2]^3 near random spheres, cylinders and planes,
+// most of them starting outside, with steps of up to about 3 per corner
+// aimed at the obstacle: 0 for a triangle that starts inside; otherwise the
+// value never reaches 0 on [0, toi] (proven by samples and its Lipschitz
+// bound) and stays above (1 - 0.9) * 0.1 of its start, no sampled point of
+// the triangle enters the true obstacle (the cylinder itself, through
+// signed_distance), and toi is never after the first contact (found by a
+// fine grid of times and bisection) and not far before it on average.
+TEST(ObstacleCcd, NeverTouchesOnRandomSteps) {
+  Random random(48);
+  const CcdOptions options;
+  int colliding = 0, started_inside = 0;
+  double ratio_sum = 0, worst_ratio = 1;
+  for (int trial = 0; trial < 10000; ++trial) {
+    const int type = trial % 3;
+    const Obstacle o = random_obstacle(random, type);
+    // Mostly triangles that start outside (a few tries), some inside.
+    std::array<Vec3, 3> x, dx;
+    for (int attempt = 0; attempt < (trial % 10 ? 20 : 1); ++attempt) {
+      for (Vec3& v : x) v = random.point(-2, 2);
+      if (triangle_obstacle_distance(o, x[0], x[1], x[2]) > 0) break;
+    }
+    const Vec3 centroid = mul(add(add(x[0], x[1]), x[2]), 1.0 / 3);
+    // Towards the obstacle (a plane's point may be far to the side: its normal).
+    const Vec3 towards = o.type == Obstacle::Type::Plane
+                             ? mul(o.normal, -signed_distance(o, centroid))
+                             : sub(o.center, centroid);
+    const Vec3 aim = mul(towards, random.uniform(0.5, 2.5));
+    for (Vec3& d : dx) d = add(aim, mul(random.point(), random.uniform(0, 1)));
+    const double toi = triangle_obstacle_ccd(o, x[0], x[1], x[2], dx[0], dx[1], dx[2], options);
+    ASSERT_GE(toi, 0);
+    ASSERT_LE(toi, 1);
+    const auto at = [&](double t) {
+      return std::array<Vec3, 3>{add(x[0], mul(dx[0], t)), add(x[1], mul(dx[1], t)),
+                                 add(x[2], mul(dx[2], t))};
+    };
+    const auto distance = [&](double t) {
+      const auto y = at(t);
+      return triangle_obstacle_distance(o, y[0], y[1], y[2]);
+    };
+    const double d0 = distance(0);
+    if (!(d0 > 0)) {
+      ASSERT_EQ(toi, 0) << "trial " << trial;
+      ++started_inside;
+      continue;
+    }
+    const double speed = std::max({norm(dx[0]), norm(dx[1]), norm(dx[2])});
+    ASSERT_TRUE(stays_above(distance, speed, 0, toi, d0, distance(toi), 0, 40))
+        << "trial " << trial;
+    // Rounding of the value is relative to the obstacle's size.
+    const double slack = 1e-12 * (1 + o.radius);
+    for (int s = 1; s <= 100; ++s)
+      ASSERT_GE(distance(toi * s / 100), 0.01 * d0 - slack) << "trial " << trial;
+    if (toi < 1) {
+      EXPECT_GE(distance(toi), 0.1 * d0 - slack) << "trial " << trial;
+    }
+    for (int s = 0; s <= 40; ++s) {
+      const auto y = at(toi * s / 40);
+      ASSERT_GT(sampled_minimum(y, 6, [&](const Vec3& p) { return signed_distance(o, p); }), 0)
+          << "trial " << trial;
+    }
+    // The first contact: a sign change of the value on a grid, bisected.
+    const int n = 400;
+    double contact = HUGE_VAL;
+    for (int i = 1; i <= n && contact > 1; ++i) {
+      double lo = double(i - 1) / n, hi = double(i) / n;
+      if (distance(hi) > 0) continue;
+      for (int k = 0; k < 50; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (distance(mid) > 0 ? lo : hi) = mid;
+      }
+      contact = hi;
+    }
+    if (contact <= 1) {
+      ASSERT_LE(toi, contact) << "trial " << trial;
+      ++colliding;
+      ratio_sum += toi / contact;
+      worst_ratio = std::min(worst_ratio, toi / contact);
+    }
+  }
+  const double mean_ratio = ratio_sum / colliding;
+  std::printf(
+      "%d of 10000 random steps reach the obstacle, %d start inside; toi / first contact: mean "
+      "%.3f, worst %.3g\n",
+      colliding, started_inside, mean_ratio, worst_ratio);
+  RecordProperty("colliding", colliding);
+  RecordProperty("mean_ratio", std::to_string(mean_ratio));
+  EXPECT_GT(colliding, 4000);
+  EXPECT_GT(started_inside, 200);
+  EXPECT_GE(mean_ratio, 0.5);
 }
 
 }  // namespace

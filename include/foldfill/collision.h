@@ -1,7 +1,8 @@
 // The geometry of an intersection-free fill: distances between point-triangle
 // (PT) and edge-edge (EE) pairs with their gradients, the log barrier of
 // Incremental Potential Contact (Li et al. 2020) on them, a conservative time
-// of impact along a linear step (Additive CCD, Li et al. 2021), and the
+// of impact along a linear step (Additive CCD, Li et al. 2021), the same for
+// a triangle against an analytic obstacle (sphere, cylinder, plane), and the
 // broad phase that finds the candidate pairs of a mesh whose free vertices
 // move among fixed ones.
 //
@@ -20,6 +21,8 @@
 #include "foldfill/mesh.h"
 
 namespace foldfill {
+
+struct Obstacle;  // foldfill/obstacles.h
 
 // ---------------------------------------------------------------------------
 // Distances. Gradients by the envelope theorem: the gradient of d^2 with
@@ -42,6 +45,23 @@ double point_triangle_distance_squared(const Vec3& p, const Vec3& a, const Vec3&
 // d(d^2)/da0, /da1, /db0, /db1.
 double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
                                   std::array<Vec3, 4>* gradient = nullptr);
+
+// Squared distance between the segment [s0, s1] and the triangle (a, b, c):
+// 0 where the segment pierces the triangle (crosses its plane strictly from
+// one side to the other within it), otherwise the least of its two ends
+// against the triangle (point_triangle_distance_squared) and of the segment
+// against the triangle's three edges (edge_edge_distance_squared), where the
+// closest pair of two disjoint convex sets like these must lie. Exact for a
+// zero-length segment (a point) and for degenerate triangles (their
+// segments, with no piercing test). The piercing test is in plain doubles: it
+// can only be wrong where the segment passes within rounding of the
+// triangle's boundary or plane, where the other candidates are within
+// rounding of 0 too. `gradient`, when non-null, receives d(d^2)/ds0, /ds1,
+// /da, /db, /dc: those of the least candidate (the first of equal ones), all
+// zero where the segment pierces.
+double segment_triangle_distance_squared(const Vec3& s0, const Vec3& s1, const Vec3& a,
+                                         const Vec3& b, const Vec3& c,
+                                         std::array<Vec3, 5>* gradient = nullptr);
 
 // ---------------------------------------------------------------------------
 // The barrier of IPC: b(d) = -(d - dhat)^2 ln(d / dhat) for 0 < d < dhat, 0
@@ -94,6 +114,54 @@ double point_static_triangle_ccd(const Vec3& p, const Vec3& dp, const Vec3& a, c
 double edge_edge_ccd(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
                      const Vec3& da0, const Vec3& da1, const Vec3& db0, const Vec3& db1,
                      const CcdOptions& options = {});
+
+// ---------------------------------------------------------------------------
+// Obstacles: a triangle of the patch against an analytic obstacle (a sphere,
+// a cylinder or a plane of foldfill/obstacles.h), in O(1) per face, with no
+// tessellation of the obstacle.
+
+// The least signed distance over the triangle (a, b, c) to the solid of a
+// sphere, cylinder or plane obstacle: the gap when positive; when the
+// triangle reaches into the solid, minus the depth of its deepest point
+// (<= 0, continuous through 0).
+// - Sphere of centre C and radius R: |q - C| - R, q the point of the
+//   triangle nearest C (point_triangle_distance_squared); down to -R.
+// - Cylinder: the CAPSULE around its axis segment (radius R, the segment of
+//   length H centred at `center` along `axis`): the distance from the
+//   triangle to the axis segment less R (segment_triangle_distance_squared);
+//   down to -R where the triangle meets the axis segment. The capsule
+//   contains the cylinder, so that a triangle at a positive value is outside
+//   the cylinder. The value equals the least signed distance to the cylinder
+//   beside its side and falls short of it by up to R beyond the flat caps
+//   (and their rims): conservative there.
+// - Plane: the least of the corners' signed distances (exact, the signed
+//   distance being linear).
+// `gradient`, when non-null, receives d(value)/da, /db, /dc (envelope
+// theorem): the unit direction from the obstacle's nearest point to the
+// triangle's, times each corner's weight in the latter; at ties those of
+// one of the nearest pairs (the first corner for a plane), and zero where
+// the triangle meets the sphere's centre or the axis segment (where the
+// value has no direction). Throws Error(Usage) for a mesh obstacle.
+double triangle_obstacle_distance(const Obstacle& obstacle, const Vec3& a, const Vec3& b,
+                                  const Vec3& c, std::array<Vec3, 3>* gradient = nullptr);
+
+// A conservative time of impact in [0, t_max] for the triangle (a, b, c)
+// moving by (da, db, dc) against the fixed obstacle, for the value of
+// triangle_obstacle_distance (so a cylinder as its capsule), with the
+// semantics of point_triangle_ccd: the value stays positive on [0, toi], at
+// least (1 - rescaling) * gap times its value d0 at t = 0, and is at least
+// gap * d0 at toi when toi < t_max; t_max when it does not come that close
+// (in particular when the triangle does not move); 0 when it starts at a
+// value <= 0 (or not finite). min(toi for an unbounded t_max, t_max).
+// Sphere and cylinder: Additive CCD steps, since the value changes by at
+// most max(|da|, |db|, |dc|) dt (the signed distance of the solid is
+// 1-Lipschitz and every point of the triangle moves by a convex combination
+// of its corners' moves). Plane: the value is the least of three linear
+// functions of t, so the time is exact: where it falls to gap * d0. Throws
+// Error(Usage) for a mesh obstacle.
+double triangle_obstacle_ccd(const Obstacle& obstacle, const Vec3& a, const Vec3& b, const Vec3& c,
+                             const Vec3& da, const Vec3& db, const Vec3& dc,
+                             const CcdOptions& options = {});
 
 // ---------------------------------------------------------------------------
 // A mesh's collision primitives: its vertices (points), edges and faces.
