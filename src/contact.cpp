@@ -8,8 +8,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <cstdio>
-#include <cstdlib>
 
 #include "foldfill/error.h"
 
@@ -56,10 +54,16 @@ void check_options(const ContactOptions& options) {
 }  // namespace
 
 PatchContact::PatchContact(const EmbedDomain& domain, const PatchScene& scene,
-                           const ContactOptions& options)
+                           const ContactOptions& options, std::vector<Obstacle> obstacles)
     : options_(options),
-      fixed_count_(domain.fixed_count + static_cast<int>(scene.positions.size())) {
+      obstacles_(std::move(obstacles)),
+      fixed_count_(domain.fixed_count + static_cast<int>(scene.positions.size())),
+      first_patch_face_(domain.strip_face_count),
+      end_patch_face_(static_cast<int>(domain.faces.size())) {
   check_options(options);
+  for (const Obstacle& o : obstacles_)
+    if (o.type == Obstacle::Type::Mesh)
+      throw Error(ErrorKind::Internal, "contact: a mesh obstacle belongs in the scene");
   const std::vector<Tri> faces = collision_faces(domain, scene);
   points_ = fixed_points(domain, scene);
   const int vertex_count = fixed_count_ + domain.free_count();
@@ -71,10 +75,9 @@ PatchContact::PatchContact(const EmbedDomain& domain, const PatchScene& scene,
 const double* PatchContact::place(const Eigen::VectorXd& x) const {
   const size_t offset = 3 * static_cast<size_t>(fixed_count_);
   if (static_cast<size_t>(x.size()) + offset != points_.size())
-    throw Error(ErrorKind::Internal, "contact: " + std::to_string(x.size()) +
-                                         " variables for a patch of " +
-                                         std::to_string((points_.size() - offset) / 3) +
-                                         " free vertices");
+    throw Error(ErrorKind::Internal,
+                "contact: " + std::to_string(x.size()) + " variables for a patch of " +
+                    std::to_string((points_.size() - offset) / 3) + " free vertices");
   std::copy(x.data(), x.data() + x.size(), points_.begin() + static_cast<std::ptrdiff_t>(offset));
   return points_.data();
 }
@@ -98,23 +101,33 @@ double PatchContact::drift() const {
 void PatchContact::refresh_candidates() const {
   const double reach = options_.thickness + options_.skin;
   broad_phase_.find(points_.data(), nullptr, reach, candidates_);
-  keep_candidates_within(mesh(), points_.data(), reach, candidates_);
   const CollisionMesh& m = mesh();
   const double* p = points_.data();
   const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  // Only the pairs closer than the reach are kept, with their distances.
+  size_t kept = 0;
   point_triangle_distance_.clear();
   for (const IndexPair& pair : candidates_.point_triangle) {
     const Tri& f = m.faces[pair[1]];
-    point_triangle_distance_.push_back(std::sqrt(point_triangle_distance_squared(
-        point(pair[0]), point(f[0]), point(f[1]), point(f[2]))));
+    const double d = std::sqrt(
+        point_triangle_distance_squared(point(pair[0]), point(f[0]), point(f[1]), point(f[2])));
+    if (!(d < reach)) continue;
+    candidates_.point_triangle[kept++] = pair;
+    point_triangle_distance_.push_back(d);
   }
+  candidates_.point_triangle.resize(kept);
+  kept = 0;
   edge_edge_distance_.clear();
   for (const IndexPair& pair : candidates_.edge_edge) {
     const auto& a = m.edges[pair[0]];
     const auto& b = m.edges[pair[1]];
-    edge_edge_distance_.push_back(std::sqrt(
-        edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1]))));
+    const double d =
+        std::sqrt(edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1])));
+    if (!(d < reach)) continue;
+    candidates_.edge_edge[kept++] = pair;
+    edge_edge_distance_.push_back(d);
   }
+  candidates_.edge_edge.resize(kept);
   anchor_ = points_;
   has_candidates_ = true;
 }
@@ -143,8 +156,9 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
     gradient_.assign(points_.size(), 0.0);
     full_gradient = gradient_.data();
   }
-  const double value = barrier_potential(mesh(), points_.data(), active_, options_.thickness,
-                                         options_.stiffness, full_gradient);
+  double value = barrier_potential(mesh(), points_.data(), active_, options_.thickness,
+                                   options_.stiffness, full_gradient);
+  if (std::isfinite(value)) value += obstacle_barrier(full_gradient);
   if (gradient && std::isfinite(value)) {
     const size_t offset = 3 * static_cast<size_t>(fixed_count_);
     for (Eigen::Index k = 0; k < gradient->size(); ++k)
@@ -167,19 +181,67 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
   // pair while that and twice the drift stay within their reach. A step too
   // long for any list is searched along its swept boxes.
   const double reach = options_.thickness + options_.skin;
+  double bound = 1;
   if (2 * largest_move > 0.5 * reach) {
     broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
-    return collision_step_bound(mesh(), points_.data(), displacement_.data(), active_,
-                                options_.ccd);
+  } else {
+    double moved = has_candidates_ ? drift() : 0;
+    if (!has_candidates_ || 2 * largest_move + 2 * moved > reach) {
+      refresh_candidates();
+      moved = 0;
+    }
+    select_candidates(2 * largest_move + 2 * moved);
   }
-  double moved = has_candidates_ ? drift() : 0;
-  if (!has_candidates_ || 2 * largest_move + 2 * moved > reach) {
-    refresh_candidates();
-    moved = 0;
+  bound = collision_step_bound(mesh(), points_.data(), displacement_.data(), active_, options_.ccd);
+  return obstacle_step_bound(bound);
+}
+
+double PatchContact::obstacle_barrier(double* gradient) const {
+  if (obstacles_.empty()) return 0;
+  const CollisionMesh& m = mesh();
+  const double* p = points_.data();
+  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  double sum = 0;
+  std::array<Vec3, 3> g;
+  for (int f = first_patch_face_; f < end_patch_face_; ++f) {
+    const Tri& t = m.faces[f];
+    const Vec3 a = point(t[0]), b = point(t[1]), c = point(t[2]);
+    for (const Obstacle& o : obstacles_) {
+      const double d = triangle_obstacle_distance(o, a, b, c, gradient ? &g : nullptr);
+      if (!(d < options_.thickness)) continue;
+      double derivative = 0;
+      const double value = barrier(d, options_.thickness, gradient ? &derivative : nullptr);
+      if (!std::isfinite(value)) return value;
+      sum += options_.stiffness * value;
+      if (!gradient) continue;
+      for (int k = 0; k < 3; ++k) {
+        if (t[k] < fixed_count_) continue;
+        for (int c2 = 0; c2 < 3; ++c2)
+          gradient[3 * t[k] + c2] += options_.stiffness * derivative * g[k][c2];
+      }
+    }
   }
-  select_candidates(2 * largest_move + 2 * moved);
-  return collision_step_bound(mesh(), points_.data(), displacement_.data(), active_,
-                              options_.ccd);
+  return sum;
+}
+
+double PatchContact::obstacle_step_bound(double t_max) const {
+  if (obstacles_.empty()) return t_max;
+  const CollisionMesh& m = mesh();
+  const double* p = points_.data();
+  const double* d = displacement_.data();
+  const auto point = [&](const double* q, int v) {
+    return Vec3{q[3 * v], q[3 * v + 1], q[3 * v + 2]};
+  };
+  CcdOptions ccd = options_.ccd;
+  for (int f = first_patch_face_; f < end_patch_face_ && t_max > 0; ++f) {
+    const Tri& t = m.faces[f];
+    for (const Obstacle& o : obstacles_) {
+      ccd.t_max = t_max;
+      t_max = triangle_obstacle_ccd(o, point(p, t[0]), point(p, t[1]), point(p, t[2]),
+                                    point(d, t[0]), point(d, t[1]), point(d, t[2]), ccd);
+    }
+  }
+  return t_max;
 }
 
 double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const {
@@ -197,10 +259,17 @@ double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const 
   for (const IndexPair& pair : near.edge_edge) {
     const auto& a = m.edges[pair[0]];
     const auto& b = m.edges[pair[1]];
-    smallest = std::min(smallest, edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]),
-                                                             point(b[1])));
+    smallest = std::min(
+        smallest, edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1])));
   }
-  return std::sqrt(smallest);
+  double nearest = std::sqrt(smallest);
+  for (int f = first_patch_face_; f < end_patch_face_; ++f) {
+    const Tri& t = m.faces[f];
+    for (const Obstacle& o : obstacles_)
+      nearest = std::min(nearest, std::max(0.0, triangle_obstacle_distance(
+                                                    o, point(t[0]), point(t[1]), point(t[2]))));
+  }
+  return nearest;
 }
 
 std::vector<Vec3> PatchContact::positions(const Eigen::VectorXd& x) const {
@@ -211,14 +280,7 @@ std::vector<Vec3> PatchContact::positions(const Eigen::VectorXd& x) const {
 }
 
 double PatchObjective::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const {
-  const double t = contact_ ? contact_->step_bound(x, dx) : 1.0;
-  if (std::getenv("FF_DEBUG")) {
-    Eigen::VectorXd g(x.size());
-    g.setZero();
-    const double e = value(x, &g);
-    std::fprintf(stderr, "t %.3g E %.8g |g| %.3g |dx|max %.3g\n", t, e, g.norm(), dx.cwiseAbs().maxCoeff());
-  }
-  return t;
+  return contact_ ? contact_->step_bound(x, dx) : 1.0;
 }
 
 double PatchObjective::value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {

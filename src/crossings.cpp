@@ -40,8 +40,7 @@ bool crosses_deeper(const Obstacle& obstacle, const std::array<Vec3, 3>& triangl
     return crosses(obstacle, triangle, tolerance);
   const auto mix = [&](double a, double b, double c) {
     Vec3 p;
-    for (int k = 0; k < 3; ++k)
-      p[k] = a * triangle[0][k] + b * triangle[1][k] + c * triangle[2][k];
+    for (int k = 0; k < 3; ++k) p[k] = a * triangle[0][k] + b * triangle[1][k] + c * triangle[2][k];
     return p;
   };
   for (const Vec3& p : {triangle[0], triangle[1], triangle[2], mix(0.5, 0.5, 0), mix(0, 0.5, 0.5),

@@ -13,8 +13,6 @@
 #include <numeric>
 #include <optional>
 #include <unordered_map>
-#include <cstdio>
-#include <cstdlib>
 
 #include "foldfill/domain.h"
 #include "foldfill/error.h"
@@ -33,12 +31,12 @@ using Clock = std::chrono::steady_clock;
 // stays outside a curved obstacle unless its radius is under a quarter of
 // an edge.
 constexpr double kObstacleClearance = 0.25;
-// Edge length of the triangles an analytic obstacle is seen as (in units of
-// the length scale; see tessellate_obstacle).
-constexpr double kObstacleEdgeLength = 0.5;
-// How far (in units of the length scale) a mesh obstacle is moved in where
-// the strip lies on it.
+// How far (in units of the length scale) an obstacle is moved in beyond the
+// depth the strip reaches into it (a mesh obstacle: where the strip lies on
+// it), so that the strip is outside.
 constexpr double kMeshClearance = 0.01;
+// The stopping threshold of the stiff minimisation of minimise_folds_first.
+constexpr double kFoldsFirstTolerance = 1e-4;
 // Bisection steps of the way from the ARAP start towards the membrane.
 constexpr int kBlendSteps = 6;
 
@@ -240,7 +238,8 @@ void inset_along_normals(Mesh& mesh, double inset) {
       const Vec3& p = mesh.positions[f[k]];
       const Vec3& q = mesh.positions[f[(k + 1) % 3]];
       const Vec3& r = mesh.positions[f[(k + 2) % 3]];
-      const Vec3 e1{q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2{r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+      const Vec3 e1{q[0] - p[0], q[1] - p[1], q[2] - p[2]},
+          e2{r[0] - p[0], r[1] - p[1], r[2] - p[2]};
       const double cosine = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) /
                             (std::hypot(e1[0], e1[1], e1[2]) * std::hypot(e2[0], e2[1], e2[2]));
       const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
@@ -302,17 +301,30 @@ class SceneBuilder {
 // The normalised obstacles of a hole, with what the contact sees of them.
 struct SceneObstacles {
   std::vector<Obstacle> normalised;  // all of them
-  double allowance = 0;              // how deep the patch may reach into an analytic one
+  // The spheres, cylinders and planes shrunk by the depth the strip reaches
+  // into them (and a hair), which the contact keeps every patch face out of.
+  std::vector<Obstacle> analytic;
+  double allowance = 0;  // how deep the patch may reach into an obstacle
 };
 
+// `o` (a sphere, cylinder or plane) with its surface moved in by `inset`.
+Obstacle shrunk(Obstacle o, double inset) {
+  if (o.type == Obstacle::Type::Plane) {
+    for (int c = 0; c < 3; ++c) o.center[c] -= inset * o.normal[c];
+  } else {
+    o.radius -= inset;
+    if (o.type == Obstacle::Type::Cylinder) o.height = std::max(0.0, o.height - 2 * inset);
+  }
+  return o;
+}
+
 // The scene of a hole: the input's faces near it but the strip's, the
-// earlier patches it may reach, and the obstacles as triangles: a mesh
-// obstacle's own faces near the hole; a sphere, cylinder or plane
-// triangulated around its solid shrunk by the hole's allowance, as deep as
-// the strip already reaches into it (the cloth may rest on or a hair inside
-// an obstacle), plus the triangulation's gap.
-PatchScene make_scene(const FillContext& context, const HolePlan& plan,
-                      const Surroundings& around, SceneObstacles& obstacles) {
+// earlier patches it may reach, and a mesh obstacle's faces near the hole;
+// into `obstacles`, the spheres, cylinders and planes the contact sees. Each
+// obstacle is moved in as deep as the strip already reaches into it (the
+// cloth may rest on or a hair inside an obstacle), and a hair more.
+PatchScene make_scene(const FillContext& context, const HolePlan& plan, const Surroundings& around,
+                      SceneObstacles& obstacles) {
   PatchScene scene;
   SceneBuilder builder(plan, scene);
   const Mesh& mesh = context.mesh;
@@ -341,8 +353,19 @@ PatchScene make_scene(const FillContext& context, const HolePlan& plan,
   for (const Obstacle& obstacle : context.options.obstacles) {
     const Obstacle o = normalized(obstacle, domain.origin, domain.length_scale);
     obstacles.normalised.push_back(o);
-    double depth = 0;  // of the strip into the obstacle
+    // How deep the strip reaches into the obstacle: its vertices, and for a
+    // sphere, cylinder or plane its faces (a patch face holds a loop edge,
+    // whose middle a curved obstacle's surface may pass above).
+    double depth = 0;
     for (const Vec3& p : domain.fixed_positions) depth = std::max(depth, -signed_distance(o, p));
+    if (o.type != Obstacle::Type::Mesh) {
+      for (int f = 0; f < domain.strip_face_count; ++f) {
+        const Tri& t = domain.faces[f];
+        depth = std::max(depth, -triangle_obstacle_distance(o, domain.fixed_positions[t[0]],
+                                                            domain.fixed_positions[t[1]],
+                                                            domain.fixed_positions[t[2]]));
+      }
+    }
     Mesh triangles;
     if (o.type == Obstacle::Type::Mesh) {
       triangles = o.mesh->mesh();
@@ -355,19 +378,11 @@ PatchScene make_scene(const FillContext& context, const HolePlan& plan,
         obstacles.allowance = std::max(obstacles.allowance, inset);
       }
     } else {
-      // The triangles lie up to their gap outside the shrunk solid: shrunk
-      // by the depth and the gap, they leave the strip outside.
-      // The gap grows a little as the solid shrinks: the inset is raised
-      // until it covers the gap of its own triangulation.
-      const double margin = 1e-3 * kObstacleEdgeLength;
-      TessellationBounds bounds;
-      double inset = depth;
-      for (int attempt = 0; attempt < 4; ++attempt) {
-        triangles = tessellate_obstacle(o, reach, kObstacleEdgeLength, inset, &bounds);
-        if (inset >= depth + bounds.gap + margin) break;
-        inset = depth + 1.5 * bounds.gap + margin;
-      }
+      const double inset = depth + kMeshClearance;
       obstacles.allowance = std::max(obstacles.allowance, inset);
+      if (o.type == Obstacle::Type::Plane || o.radius > inset)
+        obstacles.analytic.push_back(shrunk(o, inset));
+      continue;
     }
     std::vector<int> index(triangles.positions.size(), -1);
     for (const Tri& f : triangles.faces) {
@@ -432,7 +447,9 @@ void lift_over_obstacles(const EmbedDomain& domain, const std::vector<Obstacle>&
       Vec3& p = positions[v];
       if (farther_than(o, p, clearance)) continue;
       // The least lift along n that clears it, by doubling then bisection.
-      const auto at = [&](double t) { return Vec3{p[0] + t * n[0], p[1] + t * n[1], p[2] + t * n[2]}; };
+      const auto at = [&](double t) {
+        return Vec3{p[0] + t * n[0], p[1] + t * n[1], p[2] + t * n[2]};
+      };
       double low = 0, high = clearance;
       for (int k = 0; k < 60 && signed_distance(o, at(high)) < clearance; ++k) high *= 2;
       for (int k = 0; k < 40; ++k) {
@@ -459,7 +476,8 @@ std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obst
     const double ab = std::hypot(b[0] - a[0], b[1] - a[1]);
     const double bc = std::hypot(c[0] - b[0], c[1] - b[1]);
     const double ca = std::hypot(a[0] - c[0], a[1] - c[1]);
-    const double twice_area = std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    const double twice_area =
+        std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     if (twice_area > 0) largest = std::max(largest, ab * bc * ca / (2 * twice_area));
   }
   if (largest > kObstacleClearance) result.push_back(1.1 * largest);
@@ -471,16 +489,11 @@ std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obst
 bool crosses_nothing(const EmbedDomain& domain, const PatchContact& contact,
                      const std::vector<Vec3>& positions, const FabricEnergy& energy) {
   const Eigen::VectorXd x = energy.variables(positions);
-  if (!std::isfinite(contact.evaluate(x, nullptr))) { if (std::getenv("FF_DEBUG")) std::fprintf(stderr, "barrier infinite\n"); return false; }
+  if (!std::isfinite(contact.evaluate(x, nullptr))) return false;
   std::vector<int> patch(domain.faces.size() - domain.strip_face_count);
   std::iota(patch.begin(), patch.end(), domain.strip_face_count);
   const SubsetCrossings crossings =
       count_subset_crossings(contact.positions(x), contact.mesh().faces, patch, 0.0);
-  if (std::getenv("FF_DEBUG")) {
-    std::vector<Tri> only_domain(contact.mesh().faces.begin(), contact.mesh().faces.begin() + domain.faces.size());
-    const SubsetCrossings d = count_subset_crossings(contact.positions(x), only_domain, patch, 0.0);
-    std::fprintf(stderr, "clean? within %d others %d (strip %d)\n", crossings.within, crossings.with_others, d.with_others);
-  }
   return crossings.within == 0 && crossings.with_others == 0;
 }
 
@@ -541,6 +554,31 @@ SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
   return minimize(objective, energy.variables(start), solver, budget);
 }
 
+// The minimisation of a level from a start that crosses nothing, folds first:
+// where the bending weight is below stiff_lambda, a first minimisation with
+// that weight lets the cloth form its large folds while it is stiff, and the
+// weight asked for then lets the finer ones form between them. From a
+// crumpling start, a floppy patch otherwise jams in many small wrinkles that
+// cannot pass each other to make room.
+SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy& energy,
+                                  const PatchContact* contact, const std::vector<Vec3>& start,
+                                  const SolverOptions& solver, double stiff_lambda,
+                                  const Budget& budget) {
+  if (!(energy.options().lambda < stiff_lambda) || solver.kind != SolverKind::Fast)
+    return minimise(energy, contact, start, solver, budget);
+  EnergyOptions stiff_options = energy.options();
+  stiff_options.lambda = stiff_lambda;
+  const FabricEnergy stiff(domain, stiff_options);
+  // It only has to set the folds up: a looser stop.
+  SolverOptions rough = solver;
+  rough.relative_energy_tol = kFoldsFirstTolerance;
+  SolverResult folded = minimise(stiff, contact, start, rough, budget);
+  if (folded.stop_reason == StopReason::Cancelled) return folded;
+  SolverResult result = minimise(energy, contact, stiff.positions(folded.x), solver, budget);
+  result.iterations += folded.iterations;
+  return result;
+}
+
 // The start of the minimisation over plan.domain and its kind: the domain's
 // ARAP start, or with the fast solver and a large patch its coarser levels,
 // the coarsest from ARAP, each minimised and interpolated onto the next finer
@@ -561,14 +599,14 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
   // The coarse-to-fine start is the fast solver's: gradient descent follows
   // the paper (ARAP, then descent), the reference the fast solver is held to.
   if (solver.kind == SolverKind::Fast)
-    levels = coarser_levels(plan.strip, plan.flat, options.triangulate, plan.domain,
-                            options.multilevel);
+    levels =
+        coarser_levels(plan.strip, plan.flat, options.triangulate, plan.domain, options.multilevel);
   Start start;
   std::optional<std::vector<Vec3>> coarse;  // the finest coarse level's result, interpolated
   for (size_t k = levels.size(); k-- > 0 && !budget.spent();) {
     const EmbedDomain& level = levels[k];
     const FabricEnergy level_energy(level, energy_options);
-    const PatchContact level_contact(level, scene, options.contact);
+    const PatchContact level_contact(level, scene, options.contact, obstacles.analytic);
     const Level here{level, level_energy, level_contact, obstacles.normalised};
     double blend = 0;
     const std::optional<std::vector<Vec3>> from = clean_start(
@@ -577,7 +615,11 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
       coarse.reset();
       break;
     }
-    const SolverResult solved = minimise(level_energy, &level_contact, *from, solver, budget);
+    // The coarsest level forms the large folds (minimise_folds_first).
+    const SolverResult solved =
+        k + 1 == levels.size() ? minimise_folds_first(level, level_energy, &level_contact, *from,
+                                                      solver, options.stiff_start_lambda, budget)
+                               : minimise(level_energy, &level_contact, *from, solver, budget);
     if (solved.stop_reason == StopReason::Cancelled)
       throw Error(ErrorKind::FillFailed, "cancelled");
     const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
@@ -622,8 +664,9 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
               " iterations";
   if (report.start == StartKind::Unguarded)
     warning += (warning.empty() ? "" : "; ") +
-               std::string("no start that crosses nothing was found (the ARAP start and the "
-                           "membrane both cross something): minimised without the guarantee");
+               std::string(
+                   "no start that crosses nothing was found (the ARAP start and the "
+                   "membrane both cross something): minimised without the guarantee");
   return warning.empty() ? warning : where + ": " + warning;
 }
 
@@ -664,7 +707,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   const PatchScene scene = make_scene(context, plan, around, obstacles);
   report.obstacle_allowance = obstacles.allowance;
   const FabricEnergy energy(domain, energy_options);
-  const PatchContact contact(domain, scene, options.contact);
+  const PatchContact contact(domain, scene, options.contact, obstacles.analytic);
 
   // Start.
   const Start initial =
@@ -678,7 +721,10 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   stage = Clock::now();
   const bool guarded = initial.kind != StartKind::Unguarded;
   const SolverResult solved =
-      minimise(energy, guarded ? &contact : nullptr, initial.positions, solver, budget);
+      initial.kind == StartKind::CoarseLevels
+          ? minimise(energy, &contact, initial.positions, solver, budget)
+          : minimise_folds_first(domain, energy, guarded ? &contact : nullptr, initial.positions,
+                                 solver, options.stiff_start_lambda, budget);
   report.iterations = solved.iterations;
   report.stop_reason = solved.stop_reason;
   report.seconds.optimize = seconds_since(stage);
@@ -830,8 +876,7 @@ std::vector<HolePatch> fill_patches(const FillContext& context,
       const BoundaryLoop& loop = loops[fill_ids[h]];
       Surroundings around{reach[h], &nearby[h], {}};
       for (size_t e = 0; e < k; ++e)
-        if (patches[groups[g][e]].report.filled &&
-            boxes_overlap(reach[h], reach[groups[g][e]]))
+        if (patches[groups[g][e]].report.filled && boxes_overlap(reach[h], reach[groups[g][e]]))
           around.earlier.push_back(&patches[groups[g][e]]);
       try {
         patches[h] = fill_one_hole(context, loop, around);

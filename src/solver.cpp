@@ -246,7 +246,8 @@ class Lbfgs final : public Stepper {
   int memory_;
   PreconditionerFactor factor_;
   std::deque<CurvaturePair> pairs_;  // oldest first
-  double gamma_ = 1;  // (y . s) / (y . P^-1 y) of the newest pair: P^-1 scaled to the curvature seen
+  double gamma_ =
+      1;  // (y . s) / (y . P^-1 y) of the newest pair: P^-1 scaled to the curvature seen
   bool started_ = false;
   VectorXd preconditioned_, next_preconditioned_;  // P^-1 g at the current and the next iterate
   VectorXd q_, direction_, step_, s_, y_;
@@ -254,8 +255,7 @@ class Lbfgs final : public Stepper {
   Iterate next_;
 };
 
-void check_inputs(const Objective& objective, const VectorXd& start,
-                  const SolverOptions& options) {
+void check_inputs(const Objective& objective, const VectorXd& start, const SolverOptions& options) {
   if (start.size() != objective.size() || objective.size() % 3 != 0)
     throw Error(ErrorKind::Internal, "solver: start has " + std::to_string(start.size()) +
                                          " variables for an objective of " +

@@ -951,7 +951,8 @@ TEST_F(CliTest, CrossingsAreReportedAndWarnedPerHole) {
   ASSERT_EQ(guarded.code, 0) << guarded.err;
   EXPECT_TRUE(guarded.err.empty()) << guarded.err;
   EXPECT_EQ(nlohmann::json::parse(slurp(report))["holes"][0]["self_intersections"], 0);
-  const std::string liepa_fill = fill + "--method liepa --obstacles " + (dir_ / "sphere.json").string();
+  const std::string liepa_fill =
+      fill + "--method liepa --obstacles " + (dir_ / "sphere.json").string();
   const CliRun crossing = run_cli(liepa_fill, dir_);
   ASSERT_EQ(crossing.code, 0) << crossing.err;
   hole = nlohmann::json::parse(slurp(report))["holes"][0];

@@ -155,9 +155,8 @@ TEST(Inpaint, CrumpledBandsFillWithTheWeightsAskedForAndCrossNothing) {
       ASSERT_TRUE(hole.filled) << hole.reason;
       EXPECT_NE(hole.start, StartKind::Unguarded);
       EXPECT_EQ(hole.self_intersections, 0);
-      EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces,
-                                         band.face_count()),
-                0);
+      EXPECT_EQ(
+          count_self_intersections(result.mesh.positions, result.mesh.faces, band.face_count()), 0);
       EXPECT_EQ(hole.lambda, options.energy.lambda);
       EXPECT_EQ(hole.repulsion, options.energy.repulsion);
       EXPECT_TRUE(hole.warning.empty()) << hole.warning;

@@ -152,20 +152,23 @@ FillOptions prototype_options(const ReferenceCase& c) {
 }
 
 // sim2's patch settles into the gap between two cylinders and a sphere,
-// never crossing them, in far fewer iterations than gradient descent.
+// never crossing them, in a few hundred iterations, within 2% of the energy
+// gradient descent reaches in ten times as many (the two end in different
+// crumpled minima).
 TEST(Reference, Sim2SettlesBetweenItsObstaclesInFewIterations) {
   FOLDFILL_REQUIRE_SHARED();
   const ReferenceCase sim2 = case_named(load_cases(), "sim2_hole");
   FillOptions options = prototype_options(sim2);
   const HoleReport fast = fill_reference(sim2, options);
   options.solver.kind = SolverKind::GradientDescent;
-  options.solver.max_iterations = 200000;
+  options.solver.max_iterations = 10 * fast.iterations;
   const HoleReport descent = fill_reference(sim2, options);
   ASSERT_TRUE(fast.filled && descent.filled);
   EXPECT_EQ(fast.self_intersections, 0);
+  EXPECT_EQ(descent.self_intersections, 0);
   EXPECT_EQ(StopReason::Converged, fast.stop_reason);
   EXPECT_LT(fast.iterations, 2000);
-  EXPECT_LT(fast.energy_final.total, 1.05 * descent.energy_final.total);
+  EXPECT_LT(fast.energy_final.total, 1.02 * descent.energy_final.total);
   std::printf("sim2: %d iterations, energy %.6g; gradient descent %d, %.6g\n", fast.iterations,
               fast.energy_final.total, descent.iterations, descent.energy_final.total);
 }
@@ -212,8 +215,7 @@ TEST(Reference, LargePatchesStartFromCleanCoarseLevels) {
     ASSERT_GE(report.patch_vertex_count, options.multilevel.min_patch_vertices);
     EXPECT_NE(report.start, StartKind::Unguarded) << name;
     EXPECT_EQ(report.self_intersections, 0) << name;
-    std::printf("%s: start %s, %d iterations\n", name, to_string(report.start),
-                report.iterations);
+    std::printf("%s: start %s, %d iterations\n", name, to_string(report.start), report.iterations);
   }
 }
 

@@ -14,6 +14,7 @@
 #include "foldfill/collision.h"
 #include "foldfill/domain.h"
 #include "foldfill/energy.h"
+#include "foldfill/obstacles.h"
 #include "foldfill/solver.h"
 
 namespace foldfill {
@@ -42,13 +43,18 @@ struct PatchScene {
   std::vector<Tri> faces;
 };
 
-// The barrier and the step bound of one patch (domain + scene). Variables
+// The barrier and the step bound of one patch (domain + scene + analytic
+// obstacles: spheres, cylinders and planes, each face of the patch against
+// each, see triangle_obstacle_distance). Variables
 // are the domain's free vertices (3 each, as FabricEnergy's). Evaluation
 // reuses scratch buffers and a candidate list, so one object must not be used
 // from two threads at once; results do not depend on the thread count.
 class PatchContact {
  public:
-  PatchContact(const EmbedDomain& domain, const PatchScene& scene, const ContactOptions& options);
+  // `obstacles`: spheres, cylinders and planes in the domain's normalised
+  // coordinates (mesh obstacles belong in the scene, as triangles).
+  PatchContact(const EmbedDomain& domain, const PatchScene& scene, const ContactOptions& options,
+               std::vector<Obstacle> obstacles = {});
 
   // stiffness * sum of the barrier over the pairs closer than the thickness;
   // +infinity where a pair touches. Adds stiffness * its gradient to
@@ -76,8 +82,15 @@ class PatchContact {
   void select_candidates(double distance) const;
   double drift() const;
 
+  // The barrier and the step bound of the patch's faces against the
+  // analytic obstacles (added to `value` and to `gradient` when non-null).
+  double obstacle_barrier(double* gradient) const;
+  double obstacle_step_bound(double t_max) const;
+
   ContactOptions options_;
+  std::vector<Obstacle> obstacles_;
   int fixed_count_ = 0;  // of the collision mesh: the domain's fixed vertices and the scene's
+  int first_patch_face_ = 0, end_patch_face_ = 0;  // the patch's faces in the collision mesh
   mutable CollisionBroadPhase broad_phase_;
   mutable std::vector<double> points_, anchor_, displacement_, gradient_;
   // Candidates near the anchor, their distances there, and those a call uses.

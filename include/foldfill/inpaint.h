@@ -42,6 +42,10 @@ struct FillOptions {
   // hole instead of ARAP (see multilevel.h); `arap` then places the coarsest
   // level. Gradient descent always starts from ARAP, as in the paper.
   MultilevelOptions multilevel;
+  // With the fast solver, a patch (or its coarsest level) whose bending
+  // weight is below this is first minimised with this weight, then with its
+  // own from there: the large folds form first (0: never).
+  double stiff_start_lambda = 0.1;
   // The prototype's weights in the mesh's units, mapped per hole onto
   // energy.lambda, energy.repulsion and solver.step; those must then be left
   // at their defaults (fill_holes throws Error(Usage) otherwise).
@@ -116,8 +120,8 @@ struct HoleReport {
   // analytic obstacle: as deep as the strip around the hole already does,
   // plus the gap of the obstacle's triangulation the contact sees.
   double obstacle_allowance = 0;
-  double repulsion = 0;  // the repulsion weight the patch was minimised with
-  double lambda = 0;     // the bending weight the patch was minimised with
+  double repulsion = 0;           // the repulsion weight the patch was minimised with
+  double lambda = 0;              // the bending weight the patch was minimised with
   double flat_area = 0;           // area of the flat patch (mesh units)
   double area_ratio_to_flat = 0;  // 3D patch area / flat patch area
   double length_scale = 0;        // the hole's unit (mean loop edge length)
