@@ -97,6 +97,7 @@ struct Case {
 struct Filled {
   Mesh mesh;
   int first_patch_face = 0;
+  double obstacle_allowance = 0;  // of the fill (see HoleReport), in h
   std::vector<int> patch_vertices;
   std::vector<std::array<int, 2>> seam;
   double seconds = kNaN;
@@ -441,6 +442,8 @@ Filled appended_fill(const Case& c, const FillResult& result) {
     filled.patch_vertices.push_back(v);
   filled.seam = loop_edges(c.loops[c.hole].vertices);
   filled.seconds = result.report.seconds_total;
+  if (!result.report.holes.empty())
+    filled.obstacle_allowance = result.report.holes[0].obstacle_allowance;
   return filled;
 }
 
@@ -519,6 +522,7 @@ Figures measure(const std::string& method, const Case& c, const Filled& filled,
   report.holes.resize(1);
   report.holes[0].filled = true;
   report.holes[0].length_scale = h;
+  report.holes[0].obstacle_allowance = filled.obstacle_allowance;
   std::vector<int> patch_indices(patch.size());
   std::iota(patch_indices.begin(), patch_indices.end(), filled.first_patch_face);
   measure_crossings(filled.mesh, {patch_indices}, c.options.obstacles, c.name, report);

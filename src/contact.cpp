@@ -196,6 +196,44 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
   return obstacle_step_bound(bound);
 }
 
+namespace {
+
+// A lower bound on triangle_obstacle_distance for a face whose corners all
+// lie within `radius` of `centre`: the centre's own distance less the radius
+// (the distance to a sphere, a capsule or a plane is 1-Lipschitz).
+double lower_bound(const Obstacle& o, const Vec3& centre, double radius) {
+  Vec3 d;
+  switch (o.type) {
+    case Obstacle::Type::Plane: {
+      double s = 0;
+      for (int c = 0; c < 3; ++c) s += (centre[c] - o.center[c]) * o.normal[c];
+      return s - radius;
+    }
+    case Obstacle::Type::Cylinder: {
+      double t = 0;
+      for (int c = 0; c < 3; ++c) t += (centre[c] - o.center[c]) * o.axis[c];
+      t = std::clamp(t, -0.5 * o.height, 0.5 * o.height);
+      for (int c = 0; c < 3; ++c) d[c] = centre[c] - (o.center[c] + t * o.axis[c]);
+      break;
+    }
+    default:
+      for (int c = 0; c < 3; ++c) d[c] = centre[c] - o.center[c];
+  }
+  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - o.radius - radius;
+}
+
+// The centroid of a triangle and the largest distance from it to a corner.
+double bounding_ball(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& centre) {
+  for (int k = 0; k < 3; ++k) centre[k] = (a[k] + b[k] + c[k]) / 3;
+  const auto squared = [&](const Vec3& p) {
+    const double x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
+    return x * x + y * y + z * z;
+  };
+  return std::sqrt(std::max({squared(a), squared(b), squared(c)}));
+}
+
+}  // namespace
+
 double PatchContact::obstacle_barrier(double* gradient) const {
   if (obstacles_.empty()) return 0;
   const CollisionMesh& m = mesh();
@@ -206,7 +244,10 @@ double PatchContact::obstacle_barrier(double* gradient) const {
   for (int f = first_patch_face_; f < end_patch_face_; ++f) {
     const Tri& t = m.faces[f];
     const Vec3 a = point(t[0]), b = point(t[1]), c = point(t[2]);
+    Vec3 centre;
+    const double radius = bounding_ball(a, b, c, centre);
     for (const Obstacle& o : obstacles_) {
+      if (lower_bound(o, centre, radius) >= options_.thickness) continue;
       const double d = triangle_obstacle_distance(o, a, b, c, gradient ? &g : nullptr);
       if (!(d < options_.thickness)) continue;
       double derivative = 0;
@@ -235,10 +276,19 @@ double PatchContact::obstacle_step_bound(double t_max) const {
   CcdOptions ccd = options_.ccd;
   for (int f = first_patch_face_; f < end_patch_face_ && t_max > 0; ++f) {
     const Tri& t = m.faces[f];
+    const Vec3 a = point(p, t[0]), b = point(p, t[1]), c = point(p, t[2]);
+    const Vec3 da = point(d, t[0]), db = point(d, t[1]), dc = point(d, t[2]);
+    const double move = std::sqrt(std::max({da[0] * da[0] + da[1] * da[1] + da[2] * da[2],
+                                            db[0] * db[0] + db[1] * db[1] + db[2] * db[2],
+                                            dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]}));
+    Vec3 centre;
+    const double radius = bounding_ball(a, b, c, centre);
     for (const Obstacle& o : obstacles_) {
+      // A face that cannot reach the obstacle within t_max: its distance
+      // falls by at most its largest corner's move.
+      if (lower_bound(o, centre, radius) > move * t_max) continue;
       ccd.t_max = t_max;
-      t_max = triangle_obstacle_ccd(o, point(p, t[0]), point(p, t[1]), point(p, t[2]),
-                                    point(d, t[0]), point(d, t[1]), point(d, t[2]), ccd);
+      t_max = triangle_obstacle_ccd(o, a, b, c, da, db, dc, ccd);
     }
   }
   return t_max;
