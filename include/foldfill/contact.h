@@ -29,7 +29,7 @@ struct ContactOptions {
   // vertex has moved more than skin / 2 (for the barrier), or while twice that
   // move plus twice the step's longest stays within thickness + skin (for the
   // step bound); normalised.
-  double skin = 0.8;
+  double skin = 0.5;
   CcdOptions ccd;
 };
 
