@@ -167,12 +167,6 @@ Box3 reach_box(const BoundaryLoop& loop) {
   return box;
 }
 
-bool boxes_overlap(const Box3& a, const Box3& b) {
-  for (int c = 0; c < 3; ++c)
-    if (a.high[c] < b.low[c] || b.high[c] < a.low[c]) return false;
-  return true;
-}
-
 bool inside(const Box3& box, const Vec3& p) {
   for (int c = 0; c < 3; ++c)
     if (!(p[c] >= box.low[c] && p[c] <= box.high[c])) return false;
@@ -392,7 +386,7 @@ PatchScene make_scene(const FillContext& context, const HolePlan& plan, const Su
           box.low[c] = std::min(box.low[c], triangles.positions[v][c]);
           box.high[c] = std::max(box.high[c], triangles.positions[v][c]);
         }
-      if (!boxes_overlap(box, reach)) continue;
+      if (!overlap(box, reach)) continue;
       Tri face;
       for (int k = 0; k < 3; ++k) {
         int& i = index[f[k]];
@@ -824,7 +818,7 @@ std::vector<std::vector<int>> overlap_groups(const std::vector<Box3>& boxes) {
             [&](int a, int b) { return boxes[a].low[0] < boxes[b].low[0]; });
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n && boxes[order[j]].low[0] <= boxes[order[i]].high[0]; ++j)
-      if (boxes_overlap(boxes[order[i]], boxes[order[j]]))
+      if (overlap(boxes[order[i]], boxes[order[j]]))
         parent[std::max(root(order[i]), root(order[j]))] = std::min(root(order[i]), root(order[j]));
   std::vector<std::vector<int>> groups;
   std::vector<int> group_of(n, -1);
@@ -876,7 +870,7 @@ std::vector<HolePatch> fill_patches(const FillContext& context,
       const BoundaryLoop& loop = loops[fill_ids[h]];
       Surroundings around{reach[h], &nearby[h], {}};
       for (size_t e = 0; e < k; ++e)
-        if (patches[groups[g][e]].report.filled && boxes_overlap(reach[h], reach[groups[g][e]]))
+        if (patches[groups[g][e]].report.filled && overlap(reach[h], reach[groups[g][e]]))
           around.earlier.push_back(&patches[groups[g][e]]);
       try {
         patches[h] = fill_one_hole(context, loop, around);

@@ -318,12 +318,6 @@ bool face_box(const std::vector<Vec3>& positions, const Tri& f, Box3& box) {
   return true;
 }
 
-bool overlap(const Box3& a, const Box3& b) {
-  for (int c = 0; c < 3; ++c)
-    if (a.high[c] < b.low[c] || b.high[c] < a.low[c]) return false;
-  return true;
-}
-
 // The distance between two boxes: a lower bound of that of what they hold.
 double box_gap(const FaceBox& a, const FaceBox& b) {
   double squared = 0;

@@ -10,9 +10,12 @@
 
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
+#include "triangle_geometry.h"
 
 namespace foldfill {
 namespace {
+
+using geometry::any_perpendicular;
 
 constexpr double kPi = 3.14159265358979323846;
 // Faces are never finer than this fraction of the obstacle's size, which
@@ -31,18 +34,6 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-
-// A unit vector perpendicular to the unit vector `a`.
-Vec3 any_perpendicular(const Vec3& a) {
-  const int least = static_cast<int>(
-      std::min_element(a.begin(), a.end(),
-                       [](double x, double y) { return std::abs(x) < std::abs(y); }) -
-      a.begin());
-  Vec3 e{0, 0, 0};
-  e[least] = 1;
-  const Vec3 p = sub(e, scaled(a, a[least]));
-  return scaled(p, 1 / norm(p));
-}
 
 Box3 grown(const Box3& box, double margin) {
   Box3 result = box;

@@ -20,6 +20,8 @@
 namespace foldfill {
 namespace {
 
+using geometry::any_perpendicular;
+
 using Json = nlohmann::json;
 
 Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
@@ -40,18 +42,6 @@ Vec3 rotate_x(const Vec3& v, double angle) {
 // The prototype's cylinder axis: Rz(psi) Rx(theta) Rz(phi) (0, 1, 0).
 Vec3 axis_from_euler_zxz(double psi, double phi, double theta) {
   return rotate_z(rotate_x(rotate_z({0, 1, 0}, phi), theta), psi);
-}
-
-// A unit vector perpendicular to the unit vector `a`.
-Vec3 any_perpendicular(const Vec3& a) {
-  const int least = static_cast<int>(
-      std::min_element(a.begin(), a.end(),
-                       [](double x, double y) { return std::abs(x) < std::abs(y); }) -
-      a.begin());
-  Vec3 e{0, 0, 0};
-  e[least] = 1;
-  const Vec3 p = sub(e, scaled(a, a[least]));
-  return scaled(p, 1 / norm(p));
 }
 
 [[noreturn]] void fail(const std::string& where, const std::string& problem) {

@@ -2,6 +2,7 @@
 // Detection", 2005, sections 5.1.5 and 5.1.9).
 #include "triangle_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace foldfill::geometry {
@@ -26,6 +27,18 @@ Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 }
 
 }  // namespace
+
+Vec3 any_perpendicular(const Vec3& a) {
+  const int least = static_cast<int>(
+      std::min_element(a.begin(), a.end(),
+                       [](double x, double y) { return std::abs(x) < std::abs(y); }) -
+      a.begin());
+  Vec3 e{0, 0, 0};
+  e[least] = 1;
+  const Vec3 p = add_scaled(e, a, -a[least]);
+  const double inverse = 1 / std::sqrt(dot(p, p));
+  return {p[0] * inverse, p[1] * inverse, p[2] * inverse};
+}
 
 Vec3 closest_point_on_triangle(const Vec3& p, const Triangle& t) {
   const Vec3 &a = t[0], &b = t[1], &c = t[2];

@@ -20,6 +20,13 @@ struct Box3 {
   Vec3 low{}, high{};
 };
 
+// Whether two closed boxes share a point.
+inline bool overlap(const Box3& a, const Box3& b) {
+  for (int c = 0; c < 3; ++c)
+    if (a.high[c] < b.low[c] || b.high[c] < a.low[c]) return false;
+  return true;
+}
+
 // A triangle mesh as flat arrays. Faces index `positions` (0-based) and are
 // oriented counter-clockwise seen from their front side.
 //
