@@ -34,6 +34,8 @@ constexpr double kDegenerateHeight = 1e-8;
 // 3D triangles thinner than this (same measure) carry no conformal
 // information; they are left out of the LSCM energy.
 constexpr double kZeroAreaHeight = 1e-12;
+// Steps of the repaired outline from the loop's own angles to a circle's.
+constexpr int kRepairSteps = 8;
 
 Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -237,15 +239,23 @@ std::array<Vec2, 3> local_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2) 
 // conformal when rot90(grad u) = grad v; the residual
 //   rot90(grad u) - grad v = -sum_j (u_j e_j + v_j rot90(e_j)) / (2A)
 // gives two rows per triangle, weighted by sqrt(A). Unknowns are interleaved
-// (u_i at 2i, v_i at 2i + 1); strip vertices 0 and 1 are pinned.
-std::vector<Vec2> solve_lscm(const Strip& strip, const std::string& source) {
+// (u_i at 2i, v_i at 2i + 1); the first strip vertices are pinned at `pins`
+// (the loop's first vertices come first).
+std::vector<Vec2> solve_lscm(const Strip& strip, const std::vector<Vec2>& pins,
+                             const std::string& source) {
   const int vertex_count = static_cast<int>(strip.positions.size());
-  const double pin_distance = norm(sub(strip.positions[1], strip.positions[0]));
-  const double pinned[4] = {0, 0, pin_distance, 0};  // u0, v0, u1, v1
+  const int pin_variables = 2 * static_cast<int>(pins.size());
+  std::vector<double> pinned(pin_variables);
+  for (size_t k = 0; k < pins.size(); ++k) {
+    pinned[2 * k] = pins[k][0];
+    pinned[2 * k + 1] = pins[k][1];
+  }
 
   // Free unknown of each variable, -1 for the pinned ones.
-  const int free_count = 2 * vertex_count - 4;
-  const auto free_index = [](int variable) { return variable < 4 ? -1 : variable - 4; };
+  const int free_count = 2 * vertex_count - pin_variables;
+  const auto free_index = [&](int variable) {
+    return variable < pin_variables ? -1 : variable - pin_variables;
+  };
 
   std::vector<Triplet> entries;
   entries.reserve(strip.faces.size() * 12);
@@ -276,17 +286,20 @@ std::vector<Vec2> solve_lscm(const Strip& strip, const std::string& source) {
   SparseMatrix system(row, free_count);
   system.setFromTriplets(entries.begin(), entries.end());
   const SparseMatrix normal = SparseMatrix(system.transpose() * system);
-  Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
-  Eigen::VectorXd solution;
-  if (solver.info() == Eigen::Success) solution = solver.solve(system.transpose() * rhs.head(row));
-  if (solver.info() != Eigen::Success || !solution.allFinite())
+  Eigen::SimplicialLDLT<SparseMatrix> solver;
+  Eigen::VectorXd solution = Eigen::VectorXd::Zero(free_count);
+  if (free_count > 0) {
+    solver.compute(normal);
+    if (solver.info() == Eigen::Success)
+      solution = solver.solve(system.transpose() * rhs.head(row));
+  }
+  if ((free_count > 0 && solver.info() != Eigen::Success) || !solution.allFinite())
     throw Error(ErrorKind::FillFailed, source + ": the flattening (LSCM) system of the strip " +
                                            "is singular; its triangles may be degenerate");
 
   std::vector<Vec2> uv(vertex_count);
-  uv[0] = {pinned[0], pinned[1]};
-  uv[1] = {pinned[2], pinned[3]};
-  for (int v = 2; v < vertex_count; ++v)
+  for (size_t k = 0; k < pins.size(); ++k) uv[k] = pins[k];
+  for (int v = static_cast<int>(pins.size()); v < vertex_count; ++v)
     uv[v] = {solution[free_index(2 * v)], solution[free_index(2 * v + 1)]};
   return uv;
 }
@@ -466,12 +479,21 @@ Strip extract_strip(const Mesh& mesh, const VertexFaces& vertex_faces, const Bou
   return make_strip(mesh, loop, faces, source, not_a_disk);
 }
 
-Flattening flatten_strip(const Strip& strip, const std::string& source) {
+namespace {
+
+void check_strip(const Strip& strip, const std::string& source) {
   if (strip.loop_size < 3 || strip.positions.size() < static_cast<size_t>(strip.loop_size) ||
       strip.faces.empty())
     throw Error(ErrorKind::Internal, source + ": flatten_strip was given an empty strip");
+}
+
+}  // namespace
+
+Flattening flatten_strip(const Strip& strip, const std::string& source) {
+  check_strip(strip, source);
   Flattening flat;
-  flat.uv = solve_lscm(strip, source);
+  const double pin_distance = norm(sub(strip.positions[1], strip.positions[0]));
+  flat.uv = solve_lscm(strip, {{0, 0}, {pin_distance, 0}}, source);
   make_counter_clockwise(strip, flat.uv);
   measure_fit(strip, flat);
   flat.flipped_triangles = count_flipped(strip, flat.uv);
@@ -490,6 +512,77 @@ Flattening flatten_strip(const Strip& strip, const std::string& source) {
                                            ": the flattened loop runs clockwise, so the surface "
                                            "lies inside it: it is an outer edge, not a hole");
   return flat;
+}
+
+namespace {
+
+// The loop's polygon walked from its 3D edge lengths and exterior angles
+// `turn` (radians, left positive), closed by spreading the gap along its
+// length.
+std::vector<Vec2> walk_polygon(const std::vector<double>& lengths,
+                               const std::vector<double>& turn) {
+  const int n = static_cast<int>(lengths.size());
+  std::vector<Vec2> polygon(n);
+  double direction = 0, along = 0;
+  const double total = std::accumulate(lengths.begin(), lengths.end(), 0.0);
+  Vec2 p{0, 0};
+  std::vector<double> arc(n);
+  for (int k = 0; k < n; ++k) {
+    polygon[k] = p;
+    arc[k] = along;
+    // The edge from vertex k turns by the exterior angle at k (none at 0).
+    if (k > 0) direction += turn[k];
+    p = {p[0] + lengths[k] * std::cos(direction), p[1] + lengths[k] * std::sin(direction)};
+    along += lengths[k];
+  }
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 2; ++c) polygon[k][c] -= p[c] * arc[k] / total;
+  return polygon;
+}
+
+}  // namespace
+
+Flattening flatten_strip_repaired(const Strip& strip, const std::string& source) {
+  check_strip(strip, source);
+  const int n = strip.loop_size;
+  std::vector<double> lengths(n), angle_sum(n, 0);
+  for (int k = 0; k < n; ++k)
+    lengths[k] = norm(sub(strip.positions[(k + 1) % n], strip.positions[k]));
+  for (const Tri& f : strip.faces)
+    for (int k = 0; k < 3; ++k)
+      if (f[k] < n)
+        angle_sum[f[k]] += corner_angle(strip.positions[f[k]], strip.positions[f[(k + 1) % 3]],
+                                        strip.positions[f[(k + 2) % 3]]);
+  const double total = std::accumulate(lengths.begin(), lengths.end(), 0.0);
+  // The share of the turning each vertex gets on a circle of the loop's
+  // length: half its two edges.
+  std::vector<double> share(n);
+  for (int k = 0; k < n; ++k) share[k] = 0.5 * (lengths[(k + n - 1) % n] + lengths[k]) / total;
+  // The loop's own exterior angles (the strip's angle sum - pi at each
+  // vertex), blended with a circle's by `blend`, then made to close (sum 2
+  // pi), the difference spread like the circle's.
+  const auto outline = [&](double blend) {
+    std::vector<double> turn(n);
+    double sum = 0;
+    for (int k = 0; k < n; ++k) {
+      turn[k] = (1 - blend) * (angle_sum[k] - M_PI) + blend * 2 * M_PI * share[k];
+      sum += turn[k];
+    }
+    for (int k = 0; k < n; ++k) turn[k] += (2 * M_PI - sum) * share[k];
+    return walk_polygon(lengths, turn);
+  };
+  for (int step = 0; step <= kRepairSteps; ++step) {
+    std::vector<Vec2> polygon = outline(static_cast<double>(step) / kRepairSteps);
+    if (!is_simple(polygon) || !is_counter_clockwise(polygon)) continue;
+    Flattening flat;
+    flat.uv = solve_lscm(strip, polygon, source);
+    measure_fit(strip, flat);
+    flat.flipped_triangles = count_flipped(strip, flat.uv);
+    flat.simple_polygon = true;
+    if (flat.flipped_triangles == 0) return flat;
+  }
+  throw Error(ErrorKind::FillFailed,
+              source + ": no outline of the loop's edge lengths flattens its strip unflipped");
 }
 
 std::vector<Vec2> hole_polygon(const Strip& strip, const Flattening& flat) {

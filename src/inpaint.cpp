@@ -9,17 +9,21 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <numeric>
 #include <optional>
 #include <unordered_map>
 
+#include "foldfill/developability.h"
 #include "foldfill/domain.h"
 #include "foldfill/error.h"
 #include "foldfill/flatten.h"
 #include "foldfill/metrics.h"
 #include "foldfill/multilevel.h"
+#include "foldfill/smooth_fill.h"
 #include "foldfill/topology.h"
+#include "triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -37,6 +41,8 @@ constexpr double kObstacleClearance = 0.25;
 constexpr double kMeshClearance = 0.01;
 // The stopping threshold of the stiff minimisation of minimise_folds_first.
 constexpr double kFoldsFirstTolerance = 1e-4;
+// A patch face with an angle under this (degrees) counts as of zero area.
+constexpr double kDegenerateAngle = 1e-3;
 // Bisection steps of the way from the ARAP start towards the membrane.
 constexpr int kBlendSteps = 6;
 
@@ -140,6 +146,11 @@ std::string hole_source(const std::string& source, int loop_id) {
   return source + ": loop " + std::to_string(loop_id);
 }
 
+// `message` without a leading "WHERE: ".
+std::string without_prefix(const std::string& message, const std::string& where) {
+  return message.rfind(where + ": ", 0) == 0 ? message.substr(where.size() + 2) : message;
+}
+
 void throw_if_cancelled(const FillContext& context, const std::string& where) {
   if (context.cancelled.load(std::memory_order_relaxed))
     throw Error(ErrorKind::FillFailed, where + ": cancelled");
@@ -189,7 +200,15 @@ HolePlan plan_hole(const FillContext& context, const BoundaryLoop& loop, HoleRep
   const std::string where = hole_source(context.source, loop.id);
   HolePlan plan;
   plan.strip = extract_strip(context.mesh, context.vertex_faces, loop, context.source);
-  plan.flat = flatten_strip(plan.strip, where);
+  try {
+    plan.flat = flatten_strip(plan.strip, where);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::FillFailed || !context.options.fallback.enabled) throw;
+    report.fallback_reasons.push_back(std::string(to_string(FillMethod::Fabric)) + ": " +
+                                      without_prefix(e.what(), where));
+    report.method = FillMethod::FabricRepaired;
+    plan.flat = flatten_strip_repaired(plan.strip, where);
+  }
   report.seconds.flatten = seconds_since(start);
 
   const auto stage = Clock::now();
@@ -664,14 +683,12 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
   return warning.empty() ? warning : where + ": " + warning;
 }
 
-HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
-                        const Surroundings& around) {
+// The fabric method, from the LSCM flattening or, where that fails, a
+// repaired one.
+HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
+                      const Surroundings& around, HolePatch&& result) {
   const FillOptions& options = context.options;
-  HolePatch result;
   HoleReport& report = result.report;
-  report.loop_id = loop.id;
-  report.loop_vertex_count = static_cast<int>(loop.vertices.size());
-  result.loop = loop.vertices;
   const auto start = Clock::now();
   // The time limit counts from here; flattening and triangulation run to
   // their end, the start and the minimisation stop where it passes.
@@ -760,7 +777,168 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   report.flattening_fit.uv.clear();
   report.filled = true;
   report.seconds.total = seconds_since(start);
-  return result;
+  return std::move(result);
+}
+
+// The smallest 3D angle (degrees) of a patch's faces, in the hole's numbering.
+double patch_min_angle(const Mesh& mesh, const HolePatch& patch) {
+  const int loop_size = static_cast<int>(patch.loop.size());
+  double smallest = 180;
+  for (const Tri& f : patch.faces) {
+    geometry::Triangle t;
+    for (int k = 0; k < 3; ++k)
+      t[k] = f[k] < loop_size ? mesh.positions[patch.loop[f[k]]]
+                              : patch.new_positions[f[k] - loop_size];
+    smallest = std::min(smallest, geometry::smallest_angle_deg(t));
+  }
+  return smallest;
+}
+
+// Throws when the patch has a face with an angle under `min_angle` degrees
+// (or zero area), so that the chain goes on.
+void check_patch_shape(const Mesh& mesh, HolePatch& patch, double min_angle,
+                       const std::string& where) {
+  patch.report.patch_min_angle_deg = patch_min_angle(mesh, patch);
+  if (!(patch.report.patch_min_angle_deg > kDegenerateAngle))
+    throw Error(ErrorKind::FillFailed, where + ": the patch has a face of zero area");
+  if (patch.report.patch_min_angle_deg < min_angle)
+    throw Error(ErrorKind::FillFailed, where + ": the patch has a face with a " +
+                                           std::to_string(patch.report.patch_min_angle_deg) +
+                                           " degree angle");
+}
+
+// One smooth step of the chain.
+HolePatch fill_smooth(const FillContext& context, const BoundaryLoop& loop, SmoothFairing fairing,
+                      HolePatch&& result) {
+  const auto start = Clock::now();
+  HoleReport& report = result.report;
+  SmoothPatch smooth =
+      fill_hole_smooth(context.mesh, context.vertex_faces, loop, fairing, context.source);
+  result.new_positions = std::move(smooth.new_positions);
+  result.faces = std::move(smooth.faces);
+  report.method = fairing == SmoothFairing::Curvature ? FillMethod::Smooth
+                  : fairing == SmoothFairing::Tangent ? FillMethod::Liepa
+                                                      : FillMethod::Triangulation;
+  if (!smooth.faired && fairing != SmoothFairing::Triangulation)
+    report.warning = hole_source(context.source, loop.id) +
+                     ": CGAL's fairing failed; the refined patch is kept unfaired";
+  report.patch_vertex_count = static_cast<int>(result.new_positions.size());
+  report.patch_face_count = static_cast<int>(result.faces.size());
+  report.length_scale = loop.mean_edge_length;
+  report.filled = true;
+  report.seconds.total = seconds_since(start);
+  return std::move(result);
+}
+
+// Throws when a new vertex of a smooth patch lies inside an obstacle deeper
+// than the loop does (which the smooth fills do not see).
+void check_outside_obstacles(const HolePatch& patch, const std::vector<Obstacle>& obstacles,
+                             const Mesh& mesh, double length_scale, const std::string& where) {
+  for (const Obstacle& obstacle : obstacles) {
+    double depth = 0;
+    for (int v : patch.loop) depth = std::max(depth, -signed_distance(obstacle, mesh.positions[v]));
+    const double allowed = depth + kMeshClearance * length_scale;
+    for (const Vec3& p : patch.new_positions)
+      if (signed_distance(obstacle, p) < -allowed)
+        throw Error(ErrorKind::FillFailed, where + ": the patch enters an obstacle");
+  }
+}
+
+// The fallback chain. Cloth is developable, so the fabric method (from a
+// repaired flattening where LSCM's fails) comes first, then the smooth fills,
+// each more certain to close the hole. Where the surroundings are far from
+// developable, the curvature-following smooth fill comes first (the fabric
+// method next, when the smooth patch enters an obstacle); a hole of 3
+// vertices has one fill, its triangle. Every step passed over leaves its
+// reason in the report.
+HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
+                        const Surroundings& around) {
+  const FallbackOptions& fallback = context.options.fallback;
+  const std::string where = hole_source(context.source, loop.id);
+  HolePatch blank;
+  blank.report.loop_id = loop.id;
+  blank.report.loop_vertex_count = static_cast<int>(loop.vertices.size());
+  blank.loop = loop.vertices;
+  std::vector<std::string> reasons;
+  const auto passed = [&](FillMethod method, const std::string& why) {
+    reasons.push_back(std::string(to_string(method)) + ": " + without_prefix(why, where));
+  };
+
+  std::vector<FillMethod> steps = {FillMethod::Fabric, FillMethod::Smooth, FillMethod::Liepa,
+                                   FillMethod::Triangulation};
+  if (!fallback.enabled) {
+    steps = {FillMethod::Fabric};
+  } else if (loop.vertices.size() == 3 && loop.is_disk) {
+    passed(FillMethod::Fabric, "a hole of 3 vertices has one fill, its triangle");
+    steps = {FillMethod::Triangulation};
+  } else {
+    const Developability surroundings =
+        measure_developability(context.mesh, context.vertex_faces, loop);
+    if (surroundings.ratio > fallback.max_developability_ratio &&
+        surroundings.predicted_curvature > fallback.min_predicted_curvature) {
+      char why[160];
+      std::snprintf(why, sizeof why,
+                    "the surroundings are not developable (Gaussian / squared mean curvature "
+                    "%.2f, predicted curvature of the missing piece %.0f degrees)",
+                    surroundings.ratio, surroundings.predicted_curvature * 180 / M_PI);
+      passed(FillMethod::Fabric, why);
+      steps = {FillMethod::Smooth, FillMethod::Fabric, FillMethod::Liepa,
+               FillMethod::Triangulation};
+    }
+  }
+
+  for (size_t k = 0; k < steps.size(); ++k) {
+    throw_if_cancelled(context, where);
+    const bool last = k + 1 == steps.size();
+    HolePatch patch = blank;
+    try {
+      if (steps[k] == FillMethod::Fabric) {
+        patch = fill_fabric(context, loop, around, std::move(patch));
+        // Its triangles are those of a quality flat triangulation, strained
+        // by the cloth: only a degenerate one counts.
+        if (fallback.enabled)
+          check_patch_shape(context.mesh, patch, kDegenerateAngle, where);
+        else
+          patch.report.patch_min_angle_deg = patch_min_angle(context.mesh, patch);
+      } else {
+        const SmoothFairing fairing = steps[k] == FillMethod::Smooth ? SmoothFairing::Curvature
+                                      : steps[k] == FillMethod::Liepa
+                                          ? SmoothFairing::Tangent
+                                          : SmoothFairing::Triangulation;
+        patch = fill_smooth(context, loop, fairing, std::move(patch));
+        check_patch_shape(context.mesh, patch, last ? kDegenerateAngle : fallback.min_angle_deg,
+                          where);
+        if (!last)
+          check_outside_obstacles(patch, context.options.obstacles, context.mesh,
+                                  loop.mean_edge_length, where);
+      }
+      // The repair's reason (the LSCM flattening's failure) comes last.
+      reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
+                     patch.report.fallback_reasons.end());
+      patch.report.fallback_reasons = reasons;
+      return patch;
+    } catch (const Error& e) {
+      throw_if_cancelled(context, where);
+      // Options that make no sense are the caller's to fix, not the hole's.
+      if (!fallback.enabled || e.kind() == ErrorKind::Usage) throw;
+      // The LSCM step's reason is there already when the repair failed.
+      reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
+                     patch.report.fallback_reasons.end());
+      passed(
+          patch.report.method == FillMethod::FabricRepaired ? FillMethod::FabricRepaired : steps[k],
+          e.what());
+    }
+  }
+  // The first step's reason leads; the others follow.
+  const std::string first = to_string(FillMethod::Fabric) + std::string(": ");
+  std::string all =
+      reasons.front().rfind(first, 0) == 0 ? reasons.front().substr(first.size()) : reasons.front();
+  if (reasons.size() > 1) {
+    all += " (the fallbacks failed too:";
+    for (size_t k = 1; k < reasons.size(); ++k) all += (k > 1 ? "; " : " ") + reasons[k];
+    all += ")";
+  }
+  throw Error(ErrorKind::FillFailed, where + ": " + all);
 }
 
 // ---- Stitching -------------------------------------------------------------------
@@ -883,6 +1061,22 @@ std::vector<HolePatch> fill_patches(const FillContext& context,
 }
 
 }  // namespace
+
+const char* to_string(FillMethod method) {
+  switch (method) {
+    case FillMethod::Fabric:
+      return "fabric";
+    case FillMethod::FabricRepaired:
+      return "fabric-repaired";
+    case FillMethod::Smooth:
+      return "smooth";
+    case FillMethod::Liepa:
+      return "liepa";
+    case FillMethod::Triangulation:
+      return "triangulation";
+  }
+  return "fabric";
+}
 
 const char* to_string(StartKind start) {
   switch (start) {

@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "foldfill/error.h"
+#include "triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -55,6 +56,7 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
     const BoundaryLoop& loop = loops.at(id);
     HoleReport report;
     report.loop_id = id;
+    report.method = FillMethod::Liepa;
     report.loop_vertex_count = static_cast<int>(loop.vertices.size());
     const auto hole_start = std::chrono::steady_clock::now();
     std::vector<SurfaceMesh::Face_index> faces;
@@ -102,6 +104,14 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
     for (auto f : hole_faces[h])
       if (f.idx() < index.size() && index[f.idx()] >= 0) patch_faces[h].push_back(index[f.idx()]);
     std::sort(patch_faces[h].begin(), patch_faces[h].end());
+    double smallest = patch_faces[h].empty() ? 0 : 180;
+    for (int f : patch_faces[h]) {
+      const Tri& t = result.mesh.faces[f];
+      smallest = std::min(smallest, geometry::smallest_angle_deg({result.mesh.positions[t[0]],
+                                                                  result.mesh.positions[t[1]],
+                                                                  result.mesh.positions[t[2]]}));
+    }
+    result.report.holes[h].patch_min_angle_deg = smallest;
   }
   const auto crossings_start = std::chrono::steady_clock::now();
   measure_crossings(result.mesh, patch_faces, obstacles, source, result.report);

@@ -18,16 +18,38 @@ nlohmann::json to_json(const EnergyTerms& e) {
 nlohmann::json to_json(const HoleReport& hole) {
   nlohmann::json j = {{"loop_id", hole.loop_id},
                       {"filled", hole.filled},
-                      {"loop_vertex_count", hole.loop_vertex_count}};
+                      {"loop_vertex_count", hole.loop_vertex_count},
+                      {"fallback_reasons", hole.fallback_reasons}};
   if (!hole.filled) {
     j["reason"] = hole.reason;
     return j;
   }
   if (!hole.warning.empty()) j["warning"] = hole.warning;
-  const Flattening& fit = hole.flattening_fit;
   j.update({
+      {"method", to_string(hole.method)},
       {"patch_vertex_count", hole.patch_vertex_count},
       {"patch_face_count", hole.patch_face_count},
+      {"patch_min_angle_deg", hole.patch_min_angle_deg},
+      {"crossings",
+       {{"patch_patch", hole.crossings.patch_patch},
+        {"patch_mesh", hole.crossings.patch_mesh},
+        {"patch_obstacles", hole.crossings.patch_obstacles}}},
+      {"min_distance", hole.min_distance},
+      {"self_intersections", hole.self_intersections},
+      {"length_scale", hole.length_scale},
+      {"seconds", {{"total", hole.seconds.total}}},
+  });
+  if (hole.method != FillMethod::Fabric && hole.method != FillMethod::FabricRepaired) {
+    // The fabric method's figures were not measured: null, not zero.
+    for (const char* key :
+         {"iterations", "stop_reason", "start", "start_blend", "flattening", "triangulation",
+          "energy", "gaussian_curvature", "edge_length_rms_rel", "repulsion", "lambda",
+          "obstacle_allowance", "flat_area", "area_ratio_to_flat"})
+      j[key] = nullptr;
+    return j;
+  }
+  const Flattening& fit = hole.flattening_fit;
+  j.update({
       {"iterations", hole.iterations},
       {"stop_reason", to_string(hole.stop_reason)},
       {"start", to_string(hole.start)},
@@ -59,18 +81,11 @@ nlohmann::json to_json(const HoleReport& hole) {
       {"edge_length_rms_rel",
        {{"after_arap", hole.edge_length_rms_rel_after_arap},
         {"final", hole.edge_length_rms_rel_final}}},
-      {"crossings",
-       {{"patch_patch", hole.crossings.patch_patch},
-        {"patch_mesh", hole.crossings.patch_mesh},
-        {"patch_obstacles", hole.crossings.patch_obstacles}}},
-      {"min_distance", hole.min_distance},
-      {"self_intersections", hole.self_intersections},
       {"repulsion", hole.repulsion},
       {"lambda", hole.lambda},
       {"obstacle_allowance", hole.obstacle_allowance},
       {"flat_area", hole.flat_area},
       {"area_ratio_to_flat", hole.area_ratio_to_flat},
-      {"length_scale", hole.length_scale},
   });
   return j;
 }

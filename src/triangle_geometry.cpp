@@ -40,6 +40,21 @@ Vec3 any_perpendicular(const Vec3& a) {
   return {p[0] * inverse, p[1] * inverse, p[2] * inverse};
 }
 
+double smallest_angle_deg(const Triangle& t) {
+  double smallest = 180;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& a = t[k];
+    const Vec3& b = t[(k + 1) % 3];
+    const Vec3& c = t[(k + 2) % 3];
+    const Vec3 u = sub(b, a), w = sub(c, a);
+    const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const double sine = std::sqrt(dot(n, n)), cosine = dot(u, w);
+    if (!(sine > 0)) return 0;
+    smallest = std::min(smallest, std::atan2(sine, cosine) * 180 / M_PI);
+  }
+  return smallest;
+}
+
 Vec3 closest_point_on_triangle(const Vec3& p, const Triangle& t) {
   const Vec3 &a = t[0], &b = t[1], &c = t[2];
   const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);

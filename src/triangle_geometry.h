@@ -16,6 +16,9 @@ using Triangle = std::array<Vec3, 3>;
 // A unit vector perpendicular to the unit vector `a`.
 Vec3 any_perpendicular(const Vec3& a);
 
+// The triangle's smallest angle, in degrees (0 for a degenerate one).
+double smallest_angle_deg(const Triangle& t);
+
 // The point of the triangle (a degenerate one too) nearest to `p`.
 Vec3 closest_point_on_triangle(const Vec3& p, const Triangle& t);
 

@@ -163,12 +163,23 @@ TEST(Inpaint, CrumpledBandsFillWithTheWeightsAskedForAndCrossNothing) {
     }
 }
 
+bool starts_with(const std::string& text, const std::string& prefix) {
+  return text.rfind(prefix, 0) == 0;
+}
+
+FillOptions without_fallback() {
+  FillOptions options;
+  options.fallback.enabled = false;
+  return options;
+}
+
 TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
-  // A loop that touches the outer boundary cannot be flattened as an annulus.
+  // The fabric method cannot fill the outer edge of a sheet; without the
+  // fallback chain the loop stays open with the reason.
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh);
   const std::vector<int> outer = default_outer_loops(loops);
-  const FillResult result = fill_holes(cut.cut.mesh, loops, outer);
+  const FillResult result = fill_holes(cut.cut.mesh, loops, outer, without_fallback());
   ASSERT_EQ(result.report.holes.size(), 1u);
   EXPECT_FALSE(result.report.holes[0].filled);
   EXPECT_FALSE(result.report.holes[0].reason.empty());
@@ -176,11 +187,29 @@ TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
   EXPECT_EQ(result.mesh.faces, cut.cut.mesh.faces);
 }
 
-// ---- Limits ----------------------------------------------------------------------
-
-bool starts_with(const std::string& text, const std::string& prefix) {
-  return text.rfind(prefix, 0) == 0;
+// What the fabric method cannot fill, the chain closes, each step passed over
+// with its reason; the original vertices and faces stay as they were.
+TEST(Inpaint, TheFallbackChainClosesWhatTheFabricMethodCannot) {
+  const CutMesh cut = folded_sheet_with_hole();
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh);
+  const int outer = default_outer_loops(loops).at(0);
+  const FillResult result = fill_holes(cut.cut.mesh, loops, {outer});
+  const HoleReport& hole = result.report.holes.at(0);
+  ASSERT_TRUE(hole.filled) << hole.reason;
+  EXPECT_NE(hole.method, FillMethod::Fabric);
+  ASSERT_FALSE(hole.fallback_reasons.empty());
+  EXPECT_TRUE(starts_with(hole.fallback_reasons[0], "fabric: ")) << hole.fallback_reasons[0];
+  EXPECT_GT(hole.patch_min_angle_deg, 0);
+  EXPECT_EQ(std::vector<Vec3>(result.mesh.positions.begin(),
+                              result.mesh.positions.begin() + cut.cut.mesh.vertex_count()),
+            cut.cut.mesh.positions);
+  EXPECT_EQ(std::vector<Tri>(result.mesh.faces.begin(),
+                             result.mesh.faces.begin() + cut.cut.mesh.face_count()),
+            cut.cut.mesh.faces);
+  EXPECT_EQ(find_boundary_loops(result.mesh).size(), loops.size() - 1);
 }
+
+// ---- Limits ----------------------------------------------------------------------
 
 // A hole whose patch has about 8,000 vertices (its minimisation takes about
 // 0.3 s on the 2-core development machine).
@@ -204,6 +233,7 @@ TEST(InpaintLimits, TimeLimitBoundsTheMinimisationOfABigPatch) {
   const HoleReport& hole = result.report.holes.at(0);
   ASSERT_TRUE(hole.filled) << hole.reason;
   EXPECT_GT(hole.patch_vertex_count, 5000);
+  EXPECT_EQ(hole.method, FillMethod::Fabric) << ::testing::PrintToString(hole.fallback_reasons);
   EXPECT_EQ(hole.stop_reason, StopReason::TimeLimit);
   // Loose: the energy's set-up and the final checks run outside the solver's
   // clock, and sanitizer builds or a loaded CI machine run them slower.
@@ -325,7 +355,7 @@ TEST(InpaintRefusals, AFlatteningThatFailsNamesTheFileAndTheLoop) {
   const Mesh collar = rippled_collar();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(collar, "collar.obj");
   const int inner = loops[0].vertices[0] < 48 ? 0 : 1;
-  const FillResult result = fill_holes(collar, loops, {inner}, {}, "collar.obj");
+  const FillResult result = fill_holes(collar, loops, {inner}, without_fallback(), "collar.obj");
   const HoleReport& hole = result.report.holes.at(0);
   EXPECT_FALSE(hole.filled);
   EXPECT_EQ(hole.reason, "collar.obj: loop " + std::to_string(inner) +
@@ -333,11 +363,33 @@ TEST(InpaintRefusals, AFlatteningThatFailsNamesTheFileAndTheLoop) {
   EXPECT_EQ(result.mesh.faces, collar.faces);
 }
 
+// The same outline, repaired: walked from the loop's edge lengths and angles,
+// blended with a circle's until it is simple, and filled by the fabric
+// method from there.
+TEST(InpaintRefusals, AnOutlineThatCrossesItselfIsRepaired) {
+  const Mesh collar = rippled_collar();
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(collar, "collar.obj");
+  const int inner = loops[0].vertices[0] < 48 ? 0 : 1;
+  const FillResult result = fill_holes(collar, loops, {inner}, {}, "collar.obj");
+  const HoleReport& hole = result.report.holes.at(0);
+  ASSERT_TRUE(hole.filled) << hole.reason;
+  EXPECT_EQ(hole.method, FillMethod::FabricRepaired)
+      << ::testing::PrintToString(hole.fallback_reasons);
+  ASSERT_FALSE(hole.fallback_reasons.empty());
+  EXPECT_EQ(hole.fallback_reasons[0], "fabric: the flattened hole outline crosses itself");
+  EXPECT_TRUE(hole.flattening_fit.simple_polygon);
+  EXPECT_EQ(hole.flattening_fit.flipped_triangles, 0);
+  // The repaired outline keeps the loop's edge lengths up to the closing gap.
+  EXPECT_LT(hole.flattening_fit.edge_length_max_rel, 0.2);
+  EXPECT_EQ(hole.self_intersections, 0);
+}
+
 TEST(InpaintRefusals, AnOuterEdgeIsNotFilled) {
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh, "sheet.obj");
   const int outer = default_outer_loops(loops).at(0);
-  const FillResult result = fill_holes(cut.cut.mesh, loops, {outer}, {}, "sheet.obj");
+  const FillResult result =
+      fill_holes(cut.cut.mesh, loops, {outer}, without_fallback(), "sheet.obj");
   const HoleReport& hole = result.report.holes.at(0);
   EXPECT_FALSE(hole.filled);
   EXPECT_TRUE(starts_with(hole.reason, "sheet.obj: loop " + std::to_string(outer) + ": "))

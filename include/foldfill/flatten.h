@@ -54,6 +54,14 @@ struct Flattening {
 // edge: the surface lies inside it).
 Flattening flatten_strip(const Strip& strip, const std::string& source = "mesh");
 
+// The repair of a flattening that fails: the hole's outline is walked from
+// the loop's 3D edge lengths and its exterior angles (the strip's angle sum
+// at each loop vertex, minus pi), blended with a circle's, as little as makes
+// it a simple counter-clockwise polygon that closes; the rest of the strip is
+// then flattened by LSCM with the loop pinned there. Throws Error(FillFailed)
+// when no blend leaves the strip unflipped.
+Flattening flatten_strip_repaired(const Strip& strip, const std::string& source = "mesh");
+
 // The hole polygon of a flattening: uv of loop vertices in loop order.
 std::vector<Vec2> hole_polygon(const Strip& strip, const Flattening& flat);
 

@@ -3,6 +3,7 @@
 // stitch.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -29,6 +30,35 @@ struct PrototypeWeights {
   double alpha = 0.1, beta = 0.003, mu = 0.01, step = 0.5;
 };
 
+// How a hole was closed: the fabric method where it applies, then the
+// fallback chain (see fill_holes).
+enum class FillMethod {
+  Fabric,          // the fabric method of Gisbert et al. 2023
+  FabricRepaired,  // the same from a repaired flattening (flatten_strip_repaired)
+  Smooth,          // refined and faired with continuous curvature (smooth_fill.h)
+  Liepa,           // refined and faired with continuous tangents: CGAL's refine-and-fair fill
+  Triangulation,   // the loop's minimal-area triangulation alone
+};
+
+// "fabric", "fabric-repaired", "smooth", "liepa", "triangulation".
+const char* to_string(FillMethod method);
+
+struct FallbackOptions {
+  // false: a hole the fabric method cannot fill stays open with its reason.
+  bool enabled = true;
+  // Where the surroundings are far from developable (a dome, a curved
+  // statue: Developability::ratio above this; 1 on a sphere, 0 on cloth
+  // however it folds) and the curvature they predict for the missing piece
+  // is above min_predicted_curvature (radians), the hole is filled smooth,
+  // not flattened: there is no flat piece of cloth to put back.
+  double max_developability_ratio = 0.25;
+  double min_predicted_curvature = M_PI / 36;
+  // A smooth patch with a triangle angle below this (degrees) is passed to
+  // the next step of the chain (the last step keeps it unless it has zero
+  // area); a fabric patch only when it has a face of zero area.
+  double min_angle_deg = 1;
+};
+
 struct FillOptions {
   TriangulateOptions triangulate;
   ArapOptions arap;
@@ -50,6 +80,7 @@ struct FillOptions {
   // energy.lambda, energy.repulsion and solver.step; those must then be left
   // at their defaults (fill_holes throws Error(Usage) otherwise).
   std::optional<PrototypeWeights> prototype;
+  FallbackOptions fallback;
   bool keep_flat = false;  // keep the flat strip and patch in the report
   // Called per hole and iteration with (loop id, progress), from the threads
   // that fill the holes; false cancels the whole fill (see fill_holes).
@@ -88,6 +119,10 @@ struct HoleReport {
   int loop_id = 0;
   bool filled = false;
   std::string reason;  // why it was not filled
+  FillMethod method = FillMethod::Fabric;
+  // Why each step of the chain before `method` was passed over, in order
+  // ("STEP: reason"); empty when the first choice filled the hole.
+  std::vector<std::string> fallback_reasons;
   int loop_vertex_count = 0;
   int patch_vertex_count = 0;  // new (interior) vertices
   int patch_face_count = 0;
@@ -102,8 +137,9 @@ struct HoleReport {
   // or when the fill crosses itself, the rest of the mesh or an obstacle.
   std::string warning;
   StageSeconds seconds;
-  Flattening flattening_fit;  // uv left empty
-  double min_angle_deg = 0, share_below_20deg = 0;
+  Flattening flattening_fit;                        // uv left empty
+  double min_angle_deg = 0, share_below_20deg = 0;  // of the flat patch (fabric methods)
+  double patch_min_angle_deg = 0;  // the smallest angle of the new faces in 3D, any method
   EnergyTerms energy_after_arap, energy_final;
   double gaussian_mean_abs_after_arap = 0, gaussian_variance_after_arap = 0;
   double gaussian_mean_abs_final = 0, gaussian_variance_final = 0;
