@@ -844,6 +844,44 @@ void check_outside_obstacles(const HolePatch& patch, const std::vector<Obstacle>
   }
 }
 
+// The pairs of crossing faces between a candidate patch and itself, the
+// input's faces within its reach and the earlier patches it can meet,
+// counted with exact predicates on a compact copy of those faces.
+int patch_crossings(const FillContext& context, const Surroundings& around,
+                    const HolePatch& patch) {
+  std::vector<Vec3> positions;
+  std::vector<Tri> faces;
+  std::unordered_map<int, int> local;  // input vertex -> local
+  const auto input_vertex = [&](int v) {
+    const auto [it, added] = local.emplace(v, static_cast<int>(positions.size()));
+    if (added) positions.push_back(context.mesh.positions[v]);
+    return it->second;
+  };
+  const auto add_patch = [&](const HolePatch& p) {
+    const int loop_size = static_cast<int>(p.loop.size());
+    const int first_new = static_cast<int>(positions.size());
+    positions.insert(positions.end(), p.new_positions.begin(), p.new_positions.end());
+    for (const Tri& f : p.faces) {
+      Tri t;
+      for (int k = 0; k < 3; ++k)
+        t[k] = f[k] < loop_size ? input_vertex(p.loop[f[k]]) : first_new + f[k] - loop_size;
+      faces.push_back(t);
+    }
+  };
+  if (around.nearby_faces)
+    for (int f : *around.nearby_faces) {
+      const Tri& face = context.mesh.faces[f];
+      faces.push_back({input_vertex(face[0]), input_vertex(face[1]), input_vertex(face[2])});
+    }
+  for (const HolePatch* earlier : around.earlier) add_patch(*earlier);
+  const int first_patch_face = static_cast<int>(faces.size());
+  add_patch(patch);
+  std::vector<int> subset(faces.size() - first_patch_face);
+  std::iota(subset.begin(), subset.end(), first_patch_face);
+  const SubsetCrossings pairs = count_subset_crossings(positions, faces, subset, 0);
+  return pairs.within + pairs.with_others;
+}
+
 // The fallback chain. Cloth is developable, so the fabric method (from a
 // repaired flattening where LSCM's fails) comes first, then the smooth fills,
 // each more certain to close the hole. Where the surroundings are far from
@@ -887,6 +925,9 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
     }
   }
 
+  // The first patch that crosses something, kept in case no later step's
+  // patch crosses nothing.
+  std::optional<HolePatch> crossing;
   for (size_t k = 0; k < steps.size(); ++k) {
     throw_if_cancelled(context, where);
     const bool last = k + 1 == steps.size();
@@ -915,6 +956,19 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
       // The repair's reason (the LSCM flattening's failure) comes last.
       reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
                      patch.report.fallback_reasons.end());
+      patch.report.fallback_reasons.clear();
+      // The smooth fills and an unguarded fabric fill promise nothing.
+      const bool guaranteed =
+          steps[k] == FillMethod::Fabric && patch.report.start != StartKind::Unguarded;
+      if (fallback.enabled && !guaranteed) {
+        const int crossings = patch_crossings(context, around, patch);
+        if (crossings > 0) {
+          passed(patch.report.method,
+                 "the patch has " + std::to_string(crossings) + " pairs of crossing faces");
+          if (!crossing) crossing = std::move(patch);
+          continue;
+        }
+      }
       patch.report.fallback_reasons = reasons;
       return patch;
     } catch (const Error& e) {
@@ -928,6 +982,10 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
           patch.report.method == FillMethod::FabricRepaired ? FillMethod::FabricRepaired : steps[k],
           e.what());
     }
+  }
+  if (crossing) {
+    crossing->report.fallback_reasons = reasons;
+    return std::move(*crossing);
   }
   // The first step's reason leads; the others follow.
   const std::string first = to_string(FillMethod::Fabric) + std::string(": ");
