@@ -88,8 +88,9 @@ double normal_z(const Mesh& mesh, int a, int b, int c) {
   return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
 }
 
-HoleSelection by_default(int keep_open) {
+HoleSelection keeping_open(int keep_open) {
   HoleSelection selection;
+  selection.mode = HoleSelection::Mode::KeepOpen;
   selection.keep_open = keep_open;
   return selection;
 }
@@ -106,11 +107,12 @@ HoleSelection by_ids(std::vector<int> ids) {
   return selection;
 }
 
-HoleSelection near(Vec3 point) {
+HoleSelection near(std::vector<Vec3> points) {
   HoleSelection selection = by_mode(HoleSelection::Mode::Near);
-  selection.near = point;
+  selection.near = std::move(points);
   return selection;
 }
+HoleSelection near(Vec3 point) { return near(std::vector<Vec3>{point}); }
 
 // The message of the Error of kind `kind` that `action` throws.
 template <typename Action>
@@ -181,9 +183,11 @@ TEST(Holes, GridWithTwoHoles) {
   EXPECT_EQ(loops[1].vertices.front(), 8);   // (1, 1)
   EXPECT_EQ(loops[2].vertices.front(), 25);  // (4, 3)
   EXPECT_EQ(select_holes(loops, {}).fill, Ids({1, 2}));
+  // All: every hole, said explicitly; the outer edge stays open.
   const HoleChoice all = select_holes(loops, by_mode(HoleSelection::Mode::All));
-  EXPECT_EQ(all.fill, Ids({0, 1, 2}));
-  EXPECT_TRUE(all.left_open.empty());
+  EXPECT_EQ(all.fill, Ids({1, 2}));
+  EXPECT_EQ(all.left_open, Ids({0}));
+  EXPECT_EQ(all.reasons[0], ChoiceReason::NotAHole);
   const HoleChoice ids = select_holes(loops, by_ids({2, 0, 2}));
   EXPECT_EQ(ids.fill, Ids({0, 2}));
   EXPECT_EQ(ids.left_open, Ids{1});
@@ -221,11 +225,11 @@ TEST(Holes, AnnulusDefaultLeavesTheLongerLoopOpen) {
   ASSERT_EQ(loops.size(), 2u);
   EXPECT_DOUBLE_EQ(loops[0].length, 16);
   EXPECT_DOUBLE_EQ(loops[1].length, 8);
-  EXPECT_EQ(default_outer_loops(loops), Ids{0});
+  EXPECT_EQ(longest_loops(loops), Ids{0});
   HoleChoice choice = select_holes(loops, {});
   EXPECT_EQ(choice.fill, Ids{1});
   EXPECT_EQ(choice.left_open, Ids{0});
-  choice = select_holes(loops, by_default(0));
+  choice = select_holes(loops, keeping_open(0));
   EXPECT_EQ(choice.fill, Ids({0, 1}));
   EXPECT_EQ(select_holes(loops, near({2, 2, 0})).fill, Ids{1});
   EXPECT_EQ(select_holes(loops, near({2, -0.5, 0})).fill, Ids{0});
@@ -238,29 +242,37 @@ TEST(Holes, TubeHasTwoEqualLoops) {
   EXPECT_EQ(loops[1].vertices.front(), 24);
   EXPECT_NEAR(loops[0].length, loops[1].length, 1e-12);
   EXPECT_NEAR(loops[1].centroid[2], 3, 1e-12);
-  HoleChoice choice = select_holes(loops, by_default(2));
+  // The default leaves both ends open: neither turns like a hole.
+  HoleChoice choice = select_holes(loops, {});
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_EQ(loops[0].kind, LoopKind::TubeEnd);
+  EXPECT_EQ(loops[1].kind, LoopKind::TubeEnd);
+  choice = select_holes(loops, keeping_open(2));
   EXPECT_TRUE(choice.fill.empty());
   EXPECT_EQ(choice.left_open, Ids({0, 1}));
-  choice = select_holes(loops, by_default(1));
+  choice = select_holes(loops, keeping_open(1));
   EXPECT_EQ(choice.fill, Ids{1});  // equal lengths: the lower id stays open
   EXPECT_EQ(choice.left_open, Ids{0});
-  EXPECT_EQ(default_outer_loops(loops, 5), Ids({0, 1}));
+  EXPECT_EQ(longest_loops(loops, 5), Ids({0, 1}));
 }
 
 // Gauss-Bonnet: a hole in a flat sheet turns by +2 pi, the sheet's outer edge
-// by -2 pi, a tube's ends by 0; Auto fills only what turns like a hole.
+// by -2 pi, a tube's ends by 0; the default fills only what turns like a hole.
 TEST(Holes, TurningTellsHolesFromOuterEdges) {
   const auto sheet = find_boundary_loops(grid(6, {{1, 1}, {2, 1}, {4, 3}}));
   ASSERT_EQ(sheet.size(), 3u);
   EXPECT_NEAR(sheet[0].turning, -2 * M_PI, 1e-9);
   EXPECT_NEAR(sheet[1].turning, 2 * M_PI, 1e-9);
   EXPECT_NEAR(sheet[2].turning, 2 * M_PI, 1e-9);
-  EXPECT_EQ(select_holes(sheet, by_mode(HoleSelection::Mode::Auto)).fill, Ids({1, 2}));
+  EXPECT_EQ(select_holes(sheet, {}).fill, Ids({1, 2}));
+  EXPECT_EQ(sheet[0].kind, LoopKind::OuterEdge);
+  EXPECT_EQ(sheet[0].kind_reason, LoopKindReason::TurnsLikeAnEdge);
+  EXPECT_EQ(sheet[1].kind_reason, LoopKindReason::TurnsLikeAHole);
   const auto ends = find_boundary_loops(tube(16, 4));
   ASSERT_EQ(ends.size(), 2u);
   EXPECT_NEAR(ends[0].turning, 0, 1e-9);
   EXPECT_NEAR(ends[1].turning, 0, 1e-9);
-  EXPECT_TRUE(select_holes(ends, by_mode(HoleSelection::Mode::Auto)).fill.empty());
+  EXPECT_TRUE(select_holes(ends, {}).fill.empty());
 }
 
 TEST(Holes, BowtieLoopsAreNotDisks) {
@@ -279,9 +291,12 @@ TEST(Holes, BowtieLoopsAreNotDisks) {
   const HoleChoice choice = select_holes(loops, {});
   EXPECT_TRUE(choice.fill.empty());
   EXPECT_EQ(choice.left_open, Ids({0, 1}));
-  ASSERT_EQ(choice.warnings.size(), 1u);  // loop 1 is the longest: outer, left open anyway
+  EXPECT_EQ(loops[0].kind, LoopKind::NotADisk);
+  ASSERT_EQ(choice.warnings.size(), 2u);
   EXPECT_EQ(choice.warnings[0],
             "loop 0 is not a disk boundary (touches loop 1 at vertex 0): left open");
+  // Keeping the longest open, only the other one is skipped.
+  EXPECT_EQ(select_holes(loops, keeping_open(1)).warnings.size(), 1u);
   EXPECT_EQ(select_holes(loops, by_mode(HoleSelection::Mode::All)).warnings.size(), 2u);
 
   EXPECT_EQ(error_of(ErrorKind::NotADisk, [&] { select_holes(loops, by_ids({0}), "bowtie.obj"); }),
@@ -400,7 +415,7 @@ TEST(Holes, VertexOfVeryHighDegree) {
 }
 
 // The reference cases: the hole loop has the documented size, the other loops
-// are the outer boundaries, and both the default and `near` pick the hole.
+// are the outer boundaries, and the default, ids and `near` pick the hole.
 TEST(Holes, ReferenceCases) {
   FOLDFILL_REQUIRE_SHARED();
   const auto folder = testing::shared_dir() / "data" / "reference";
@@ -431,20 +446,19 @@ TEST(Holes, ReferenceCases) {
     EXPECT_EQ(select_holes(loops, near(mesh.positions[hole_vertex]), name).fill, Ids{hole.id});
     EXPECT_EQ(select_holes(loops, by_ids({hole.id}), name).fill, Ids{hole.id});
 
-    // The default keeps the longest loops open, so it finds the hole exactly
-    // when the hole is shorter than every outer boundary. It is not on
-    // paper1 and sim2, whose holes are longer: there it must leave the hole open
-    // (the user has to name it), never fill more than the other loops.
+    // The default fills exactly the hole, and leaves the outer edges open.
+    const HoleChoice choice = select_holes(loops, {}, name);
+    EXPECT_EQ(choice.fill, Ids{hole.id});
+    EXPECT_EQ(hole.kind, LoopKind::Hole);
+    EXPECT_EQ(choice.left_open.size(), static_cast<size_t>(outer_loops));
+    EXPECT_TRUE(choice.warnings.empty());
+    // Keeping the longest loops open finds the hole only when it is shorter
+    // than every outer boundary; it is not on paper1 and sim2.
     const bool hole_is_shortest = std::all_of(loops.begin(), loops.end(), [&](const auto& loop) {
       return loop.id == hole.id || loop.length > hole.length;
     });
-    const HoleChoice choice = select_holes(loops, by_default(outer_loops), name);
-    EXPECT_EQ(choice.fill.size(), 1u);
-    EXPECT_EQ(choice.left_open.size(), static_cast<size_t>(outer_loops));
-    EXPECT_EQ(choice.fill == Ids{hole.id}, hole_is_shortest);
-    EXPECT_TRUE(choice.warnings.empty());
-    // The turning of the loops tells the hole from the outer edges on every case.
-    EXPECT_EQ(select_holes(loops, by_mode(HoleSelection::Mode::Auto), name).fill, Ids{hole.id});
+    EXPECT_EQ(select_holes(loops, keeping_open(outer_loops), name).fill == Ids{hole.id},
+              hole_is_shortest);
 
     std::cout << name << ": " << mesh.vertex_count() << " vertices, " << mesh.face_count()
               << " faces, " << loops.size() << " loops:";
@@ -453,7 +467,7 @@ TEST(Holes, ReferenceCases) {
                 << loop.vertices.size() << " vertices, length " << loop.length << ", turning "
                 << loop.turning << "]";
     }
-    std::cout << (hole_is_shortest ? "" : "; the default leaves the hole open") << "\n";
+    std::cout << (hole_is_shortest ? "" : "; --keep-open leaves the hole open") << "\n";
   }
 }
 

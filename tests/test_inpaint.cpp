@@ -167,7 +167,7 @@ TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
   // A loop that touches the outer boundary cannot be flattened as an annulus.
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh);
-  const std::vector<int> outer = default_outer_loops(loops);
+  const std::vector<int> outer = longest_loops(loops);
   const FillResult result = fill_holes(cut.cut.mesh, loops, outer);
   ASSERT_EQ(result.report.holes.size(), 1u);
   EXPECT_FALSE(result.report.holes[0].filled);
@@ -336,7 +336,7 @@ TEST(InpaintRefusals, AFlatteningThatFailsNamesTheFileAndTheLoop) {
 TEST(InpaintRefusals, AnOuterEdgeIsNotFilled) {
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh, "sheet.obj");
-  const int outer = default_outer_loops(loops).at(0);
+  const int outer = longest_loops(loops).at(0);
   const FillResult result = fill_holes(cut.cut.mesh, loops, {outer}, {}, "sheet.obj");
   const HoleReport& hole = result.report.holes.at(0);
   EXPECT_FALSE(hole.filled);
