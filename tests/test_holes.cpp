@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -15,6 +16,7 @@
 #include "foldfill/error.h"
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
+#include "foldfill/test_surfaces.h"
 #include "foldfill/topology.h"
 #include "test_support.h"
 
@@ -469,6 +471,200 @@ TEST(Holes, ReferenceCases) {
     }
     std::cout << (hole_is_shortest ? "" : "; --keep-open leaves the hole open") << "\n";
   }
+}
+
+// The cloth cases: each *_hole.obj has one hole, of the size the manifest
+// gives, and the default fills exactly that loop.
+TEST(Holes, ClothCasesDefaultFillsTheirHole) {
+  FOLDFILL_REQUIRE_SHARED();
+  const auto folder = testing::shared_dir() / "data" / "cloth";
+  std::ifstream file(folder / "manifest.json");
+  ASSERT_TRUE(file) << "cannot open cloth/manifest.json";
+  const nlohmann::json cases = nlohmann::json::parse(file);
+  ASSERT_FALSE(cases.empty());
+  for (const auto& entry : cases) {
+    const std::string name = entry["case"].get<std::string>() + "_hole.obj";
+    SCOPED_TRACE(name);
+    const auto loops = find_boundary_loops(read_mesh((folder / name).string()), name);
+    const HoleChoice choice = select_holes(loops, {}, name);
+    ASSERT_EQ(choice.fill.size(), 1u);
+    EXPECT_EQ(loops[choice.fill[0]].vertices.size(), entry["hole_boundary_vertices"].get<size_t>());
+    EXPECT_EQ(choice.left_open.size(), loops.size() - 1);
+  }
+}
+
+// The ids of the loops through `vertices` (one vertex on each), ascending.
+Ids loops_through(const std::vector<BoundaryLoop>& loops, const std::vector<int>& vertices) {
+  Ids ids;
+  for (int v : vertices) {
+    for (const BoundaryLoop& loop : loops) {
+      if (std::count(loop.vertices.begin(), loop.vertices.end(), v)) ids.push_back(loop.id);
+    }
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+// Checks that the default fills exactly the holes cut from `surface` and
+// leaves its other loops open, as kind `open_kind`. Returns the loops.
+std::vector<BoundaryLoop> expect_default_fills_the_holes(const HoledSurface& surface,
+                                                         LoopKind open_kind = LoopKind::OuterEdge) {
+  const auto loops = find_boundary_loops(surface.mesh);
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_EQ(choice.fill, loops_through(loops, surface.hole_vertices));
+  EXPECT_EQ(choice.left_open, loops_through(loops, surface.open_vertices));
+  EXPECT_TRUE(choice.warnings.empty());
+  for (int id : choice.left_open) {
+    EXPECT_EQ(loops[id].kind, open_kind) << "loop " << id << ": " << explain_kind(loops[id]);
+  }
+  for (int id : choice.fill) EXPECT_EQ(choice.reasons[id], ChoiceReason::IsAHole);
+  return loops;
+}
+
+TEST(Classify, SphereHolesAllFilledTheCapByItsCurvature) {
+  const HoledSurface sphere = make_holed_sphere();
+  const auto loops = expect_default_fills_the_holes(sphere);
+  const BoundaryLoop& cap = loops[loops_through(loops, {sphere.hole_vertices[0]}).at(0)];
+  EXPECT_LT(cap.turning, M_PI);
+  EXPECT_EQ(cap.kind_reason, LoopKindReason::ClosesTheCurvature);
+  EXPECT_NEAR(cap.curvature_density, 1.0, 0.05);
+  // The cap's area, 2 pi (1 - cos 65 degrees), as the curvature predicts it.
+  EXPECT_NEAR(cap.predicted_area, 2 * M_PI * (1 - std::cos(65 * M_PI / 180)), 0.3);
+  EXPECT_NE(explain_kind(cap).find("closes it"), std::string::npos) << explain_kind(cap);
+}
+
+// Angle defects are summed over a band, so noise in the positions mostly
+// cancels: the cap of a sphere whose vertices are moved at random by a tenth
+// of an edge is still a hole.
+TEST(Classify, SphereCapIsAHoleThroughNoise) {
+  HoledSurface sphere = make_holed_sphere();
+  std::mt19937_64 random(7);
+  const double edge = mean_edge_length(sphere.mesh);
+  for (Vec3& p : sphere.mesh.positions) {
+    for (double& c : p) c += 0.1 * edge * (static_cast<double>(random() >> 11) * 0x1.0p-53 - 0.5);
+  }
+  expect_default_fills_the_holes(sphere);
+}
+
+TEST(Classify, TorusHolesOutsideInsideAndOnTopAreHoles) {
+  expect_default_fills_the_holes(make_holed_torus());
+}
+
+TEST(Classify, BlobHolesAreAllHoles) {
+  const HoledSurface blob = make_holed_blob();
+  const auto loops = expect_default_fills_the_holes(blob);
+  EXPECT_EQ(loops.size(), blob.hole_vertices.size());
+}
+
+TEST(Classify, BoxCornerHoleIsAHole) {
+  expect_default_fills_the_holes(make_box_with_corner_hole());
+}
+
+TEST(Classify, SleeveEndsStayOpenAndItsLongerHoleIsFilled) {
+  expect_default_fills_the_holes(make_holed_sleeve(), LoopKind::TubeEnd);
+}
+
+TEST(Classify, SheetHoleLongerThanTheOuterEdgeIsFilled) {
+  expect_default_fills_the_holes(make_sheet_with_long_hole());
+}
+
+TEST(Classify, SmallHolesOfThreeFourAndFiveVerticesAreFilled) {
+  expect_default_fills_the_holes(make_sheet_with_small_holes());
+}
+
+TEST(Classify, RuffleSlotIsAHole) { expect_default_fills_the_holes(make_ruffle_with_c_slot()); }
+
+// A dome's rim turns by less than a hole's would, and its curvature would
+// close it only with the rest of the sphere, larger than the dome: an edge,
+// however deep the dome, up to a hemisphere (where it turns by 0, a tube's end).
+TEST(Classify, DomeRimStaysOpenAndItsHoleIsFilled) {
+  for (double rim : {50.0, 60.0, 70.0, 80.0}) {
+    SCOPED_TRACE(rim);
+    DomeSurfaceOptions options;
+    options.rim_degrees = rim;
+    const HoledSurface dome = make_holed_dome(options);
+    const auto loops = find_boundary_loops(dome.mesh);
+    const BoundaryLoop& edge = loops[loops_through(loops, dome.open_vertices).at(0)];
+    EXPECT_GT(edge.predicted_area, edge.component_area);
+    expect_default_fills_the_holes(dome, rim < 75 ? LoopKind::OuterEdge : LoopKind::TubeEnd);
+  }
+}
+
+// Each piece of surface is judged by its own area: a dome beside a large
+// sheet keeps its rim open although the sheet's area exceeds what the dome's
+// curvature would need to close it.
+TEST(Classify, EachPieceIsJudgedOnItsOwn) {
+  HoledSurface dome = make_holed_dome();
+  SheetSurfaceOptions big;
+  big.size = 6;
+  big.edge_length = 0.1;
+  const HoledSurface sheet = make_sheet_with_long_hole(big);
+  HoledSurface both = dome;
+  const int offset = both.mesh.vertex_count();
+  for (const Vec3& p : sheet.mesh.positions) both.mesh.positions.push_back({p[0] + 5, p[1], p[2]});
+  for (const Tri& f : sheet.mesh.faces) {
+    both.mesh.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  }
+  for (int v : sheet.hole_vertices) both.hole_vertices.push_back(v + offset);
+  for (int v : sheet.open_vertices) both.open_vertices.push_back(v + offset);
+  const auto loops = expect_default_fills_the_holes(both);
+  const BoundaryLoop& rim = loops[loops_through(loops, dome.open_vertices).at(0)];
+  EXPECT_LT(rim.predicted_area, 36.0);
+  EXPECT_GT(rim.predicted_area, rim.component_area);
+}
+
+// A loop the user names is selected whatever its kind: the fill's own checks
+// decide what can be done with it.
+TEST(Selection, NamedOuterEdgeIsSelected) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  ASSERT_EQ(loops[0].kind, LoopKind::OuterEdge);
+  const HoleChoice choice = select_holes(loops, by_ids({0}));
+  EXPECT_EQ(choice.fill, Ids{0});
+  EXPECT_EQ(choice.reasons[0], ChoiceReason::Named);
+  EXPECT_EQ(choice.reasons[1], ChoiceReason::NotNamed);
+  EXPECT_EQ(select_holes(loops, near({-0.5, 2, 0})).fill, Ids{0});
+}
+
+TEST(Selection, EachNearPointPicksItsLoop) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  EXPECT_EQ(select_holes(loops, near({{1.5, 1.5, 0}, {4.5, 3.5, 0}})).fill, Ids({1, 2}));
+  // With ids as well: every loop named.
+  HoleSelection both = near(Vec3{4.5, 3.5, 0});
+  both.ids = {0};
+  EXPECT_EQ(select_holes(loops, both).fill, Ids({0, 2}));
+}
+
+TEST(Selection, NearAPointFarFromEveryLoopIsAnError) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  EXPECT_EQ(error_of(ErrorKind::Usage,
+                     [&] {
+                       select_holes(loops, near({{1.5, 1.5, 0}, {3, 3, 20}}), "g.obj");
+                     }),
+            "g.obj: no loop near the point (3, 3, 20): the nearest, loop 2, is 20 away, farther "
+            "than its size (1.41)");
+}
+
+TEST(Selection, FiltersBySizeAndDiameterOnTopOfTheMode) {
+  // Holes of 4, 6 and 8 vertices (one, two and four cells).
+  const auto loops =
+      find_boundary_loops(grid(12, {{1, 1}, {5, 5}, {6, 5}, {8, 8}, {9, 8}, {8, 9}, {9, 9}}));
+  ASSERT_EQ(loops.size(), 4u);
+  HoleSelection small;
+  small.max_hole_size = 6;
+  HoleChoice choice = select_holes(loops, small);
+  EXPECT_EQ(choice.fill, Ids({1, 2}));
+  EXPECT_EQ(choice.reasons[3], ChoiceReason::TooManyEdges);
+  EXPECT_EQ(choice.reasons[0], ChoiceReason::NotAHole);
+  HoleSelection narrow;
+  narrow.max_hole_diameter = 2.5;  // the 2 x 2 hole's diagonal is 2.83
+  choice = select_holes(loops, narrow);
+  EXPECT_EQ(choice.fill, Ids({1, 2}));
+  EXPECT_EQ(choice.reasons[3], ChoiceReason::TooWide);
+  // On named loops too.
+  HoleSelection named = by_ids({1, 3});
+  named.max_hole_size = 6;
+  EXPECT_EQ(select_holes(loops, named).fill, Ids({1}));
+  EXPECT_DOUBLE_EQ(mean_edge_length(grid(2)), (12 + 4 * std::sqrt(2.0)) / 16);
 }
 
 }  // namespace
