@@ -314,6 +314,19 @@ void check_single_paths(const std::string& input, const std::string& output, con
   plan.check();
 }
 
+std::vector<std::string> input_files(const FillArgs& args) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const std::string& argument : args.inputs) {
+    if (!fs::is_directory(argument, ec)) {
+      files.push_back(argument);
+      continue;
+    }
+    for (const fs::path& file : meshes_in_folder(argument)) files.push_back(file.string());
+  }
+  return files;
+}
+
 int run_batch(FillArgs args) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<BatchItem> items = plan_batch(args);

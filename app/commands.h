@@ -22,12 +22,18 @@ constexpr int kBatchFailedExitCode = 11;
 
 // Options of the hole selection, shared by `holes` and `fill`.
 struct SelectionArgs {
-  std::string holes;  // "all", "auto" or "0,2"
-  std::vector<double> near;
-  int keep_open = 1;
+  std::string holes;             // "all", "auto" (the default, by name) or "0,2"
+  std::vector<double> near;      // x, y, z of each --near, in order
+  int keep_open = -1;            // --keep-open N; -1: not given
+  int max_hole_size = 0;         // --max-hole-size (boundary edges); 0: none
+  double max_hole_diameter = 0;  // --max-hole-diameter (mean edge lengths of the mesh); 0: none
 
-  // Throws Error(Usage) for a malformed --holes list.
-  HoleSelection selection() const;
+  // Throws Error(Usage) for a malformed --holes list or options that
+  // contradict each other (--keep-open with --holes or --near, --near with
+  // --holes all or auto).
+  void check() const;
+  // The selection for `mesh` (--max-hole-diameter in its units). Throws like check().
+  HoleSelection selection(const Mesh& mesh) const;
 };
 
 // The loop ids of a --holes list such as "0,2": each a whole non-negative
@@ -56,6 +62,7 @@ struct FillArgs {
   int coarse_start = FillOptions{}.multilevel.min_patch_vertices;  // 0: never
   double time_limit = 0;
   bool quiet = false, ascii = false;
+  bool dry_run = false;  // --dry-run: print what would be filled, write nothing
   // The obstacles of --obstacles and --obstacle-mesh, read once (load_obstacles).
   std::vector<Obstacle> loaded_obstacles;
 };
@@ -124,5 +131,16 @@ void check_single_paths(const std::string& input, const std::string& output, con
 // cannot be written; Interrupted when a signal came (the files written by
 // then stay, the report is not written).
 int run_batch(FillArgs args);
+
+// The mesh files of `args.inputs` in order: files as given, each folder's
+// mesh files sorted by name. Throws Error(Usage) for a folder without any,
+// Error(CannotRead) for one that cannot be listed.
+std::vector<std::string> input_files(const FillArgs& args);
+
+// `fill --dry-run`: per input file, each loop, whether the selection fills it
+// and why; nothing is written. Returns the exit code: 0, or for several files
+// kBatchFailedExitCode when one could not be read (a single file's error is
+// thrown).
+int run_dry_run(const FillArgs& args);
 
 }  // namespace foldfill::cli

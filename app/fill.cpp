@@ -1,10 +1,13 @@
 // Filling and writing one mesh for the `fill` and `demo` commands, and the
 // one-file run with its progress line and summary.
 #include <fmt/core.h>
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <mutex>
 #include <sstream>
@@ -89,6 +92,32 @@ void print_warning(const std::string& warning, const std::string& source, bool q
   if (!quiet) fmt::print(stderr, "foldfill: warning: {}\n", with_source(warning, source));
 }
 
+std::string plural(size_t count, const char* noun) {
+  return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s");
+}
+
+// The loops left open, one line for the outer edges and tube ends (not holes)
+// and one for the others (not named, filtered out, among the longest, not a
+// disk).
+void print_left_open(const FileFill& fill) {
+  std::vector<std::string> edges, others;
+  for (int id : fill.choice.left_open) {
+    const BoundaryLoop& loop = fill.loops[id];
+    const ChoiceReason reason = fill.choice.reasons[id];
+    const std::string what =
+        reason == ChoiceReason::NotAHole ? to_string(loop.kind) : to_string(reason);
+    (reason == ChoiceReason::NotAHole ? edges : others)
+        .push_back(fmt::format("{} ({}, {} vertices)", id, what, loop.vertices.size()));
+  }
+  if (!edges.empty()) {
+    fmt::print("{} left open as outer edges: {}\n", plural(edges.size(), "loop"),
+               fmt::join(edges, ", "));
+  }
+  if (!others.empty()) {
+    fmt::print("{} left open: {}\n", plural(others.size(), "loop"), fmt::join(others, ", "));
+  }
+}
+
 void print_single_summary(const FileFill& fill, const std::string& source,
                           const std::string& output, bool quiet) {
   for (const HoleReport& hole : fill.report.holes) {
@@ -104,9 +133,7 @@ void print_single_summary(const FileFill& fill, const std::string& source,
   }
   if (quiet) return;
   if (fill.choice.fill.empty()) fmt::print("nothing to fill: the mesh was written unchanged\n");
-  for (int id : fill.choice.left_open) {
-    fmt::print("left open: loop {} ({} vertices)\n", id, fill.loops[id].vertices.size());
-  }
+  print_left_open(fill);
   fmt::print("wrote {}\n", output);
 }
 
@@ -127,25 +154,44 @@ void plan_obstacle_reads(const FillArgs& args, PathPlan& plan) {
       plan.reads(obstacle.mesh->source(), "an obstacle mesh");
 }
 
-HoleSelection SelectionArgs::selection() const {
+void SelectionArgs::check() const {
+  if (!holes.empty() && holes != "all" && holes != "auto" && !parse_loop_ids(holes)) {
+    throw Error(ErrorKind::Usage,
+                "--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
+  }
+  if (near.size() % 3 != 0) {
+    throw Error(ErrorKind::Usage, "--near: each point needs three numbers, x,y,z");
+  }
+  if (keep_open >= 0 && (!holes.empty() || !near.empty())) {
+    throw Error(ErrorKind::Usage,
+                "--keep-open: not with --holes or --near (it is a choice of its own: all but "
+                "the N longest loops)");
+  }
+  if (!near.empty() && (holes == "all" || holes == "auto")) {
+    throw Error(ErrorKind::Usage, "--near: not with --holes " + holes +
+                                      " (--near names loops; so does --holes with loop ids)");
+  }
+}
+
+HoleSelection SelectionArgs::selection(const Mesh& mesh) const {
+  check();
   HoleSelection s;
-  s.keep_open = keep_open;
-  if (!near.empty()) {
-    s.mode = HoleSelection::Mode::Near;
-    s.near = {near[0], near[1], near[2]};
+  if (keep_open >= 0) {
+    s.mode = HoleSelection::Mode::KeepOpen;
+    s.keep_open = keep_open;
   } else if (holes == "all") {
     s.mode = HoleSelection::Mode::All;
-  } else if (holes == "auto") {
-    s.mode = HoleSelection::Mode::Auto;
-  } else if (!holes.empty()) {
+  } else if (!holes.empty() && holes != "auto") {
     s.mode = HoleSelection::Mode::Ids;
-    const std::optional<std::vector<int>> ids = parse_loop_ids(holes);
-    if (!ids) {
-      throw Error(ErrorKind::Usage,
-                  "--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
-    }
-    s.ids = *ids;
+    s.ids = *parse_loop_ids(holes);
   }
+  if (!near.empty()) {
+    s.mode = HoleSelection::Mode::Near;
+    for (size_t k = 0; k < near.size(); k += 3)
+      s.near.push_back({near[k], near[k + 1], near[k + 2]});
+  }
+  s.max_hole_size = max_hole_size;
+  if (max_hole_diameter > 0) s.max_hole_diameter = max_hole_diameter * mean_edge_length(mesh);
   return s;
 }
 
@@ -177,18 +223,20 @@ int FileFill::failed_hole_count() const {
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection) {
   FileFill fill;
   fill.loops = find_boundary_loops(mesh, source);
-  const HoleSelection chosen = selection.selection();
+  const HoleSelection chosen = selection.selection(mesh);
   fill.choice = select_holes(fill.loops, chosen, source);
-  // The default goes by length alone; say so when the loops' turning tells
+  // --keep-open goes by length alone; say so when the classifier tells
   // another story (a hole longer than the cloth's edge, a sleeve's ends).
-  if (chosen.mode == HoleSelection::Mode::Default) {
-    HoleSelection by_turning = chosen;
-    by_turning.mode = HoleSelection::Mode::Auto;
-    if (select_holes(fill.loops, by_turning, source).fill != fill.choice.fill) {
+  if (chosen.mode == HoleSelection::Mode::KeepOpen) {
+    HoleSelection by_kind = chosen;
+    by_kind.mode = HoleSelection::Mode::Default;
+    const std::vector<int> holes = select_holes(fill.loops, by_kind, source).fill;
+    if (holes != fill.choice.fill) {
       fill.choice.warnings.push_back(
-          source +
-          ": the default fills the loops that are not the longest, but the loops that turn "
-          "like holes differ (see `foldfill holes`); --holes auto fills those");
+          source + ": --keep-open " + std::to_string(chosen.keep_open) +
+          " fills other loops than the default, which fills the holes (" +
+          (holes.empty() ? std::string("none") : fmt::format("{}", fmt::join(holes, ", "))) +
+          "; see `foldfill holes`)");
     }
   }
   return fill;
@@ -225,6 +273,39 @@ nlohmann::json file_report(const FileFill& fill, const std::string& source,
   report["left_open_loops"] = fill.choice.left_open;
   report["warnings"] = fill.choice.warnings;
   return report;
+}
+
+int run_dry_run(const FillArgs& args) {
+  const std::vector<std::string> files = input_files(args);
+  int failed = 0;
+  for (const std::string& file : files) {
+    FileFill fill;
+    try {
+      fill = choose_holes(read_mesh(file), file, args.selection);
+    } catch (const Error& e) {
+      if (files.size() == 1) throw;
+      fmt::print(stderr, "foldfill: error: {}\n", e.what());
+      ++failed;
+      continue;
+    }
+    for (const std::string& warning : fill.choice.warnings)
+      print_warning(warning, file, args.quiet);
+    fmt::print("{}: {}, would fill {}\n", file, plural(fill.loops.size(), "boundary loop"),
+               fill.choice.fill.empty()
+                   ? std::string("nothing")
+                   : fmt::format("{} {}", fill.choice.fill.size() == 1 ? "loop" : "loops",
+                                 fmt::join(fill.choice.fill, ", ")));
+    for (const BoundaryLoop& loop : fill.loops) {
+      const bool filled =
+          std::binary_search(fill.choice.fill.begin(), fill.choice.fill.end(), loop.id);
+      fmt::print("loop {}: {} ({}): {}, {} vertices, turning {:.0f} deg: {}\n", loop.id,
+                 filled ? "fill" : "leave open", to_string(fill.choice.reasons[loop.id]),
+                 to_string(loop.kind), loop.vertices.size(), loop.turning * 180 / M_PI,
+                 explain_kind(loop));
+    }
+  }
+  fmt::print("dry run: nothing written\n");
+  return failed > 0 ? kBatchFailedExitCode : 0;
 }
 
 int fill_single(const Mesh& mesh, const std::string& source, const std::string& output,

@@ -1,5 +1,5 @@
 // foldfill: the command-line program, a thin layer over the library.
-//   foldfill holes MESH [--json]          list boundary loops
+//   foldfill holes MESH [--json]          list boundary loops and what they are
 //   foldfill fill IN -o OUT [options]     fill holes (app/fill.cpp)
 //   foldfill fill IN... -o OUTDIR         fill several files or a folder (app/batch.cpp)
 //   foldfill demo OUTDIR                  fill a built-in folded sheet
@@ -91,27 +91,48 @@ const CLI::Validator loop_list(
 void add_selection_options(CLI::App* command, SelectionArgs& args) {
   command
       ->add_option("--holes", args.holes,
-                   "loops to fill: 'all', 'auto' (those that turn like a hole) or ids such as 0,2")
+                   "loops to fill: 'all' (every hole; the default, said explicitly), 'auto' (the "
+                   "default) or loop ids such as 0,2, filled whatever they are")
       ->check(loop_list);
-  command->add_option("--near", args.near, "fill the loop closest to the point x,y,z")
+  command
+      ->add_option("--near", args.near,
+                   "fill the loop closest to the point x,y,z, whatever it is (repeatable)")
       ->expected(3)
       ->delimiter(',')
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(number_in(-HUGE_VAL));
   command
       ->add_option("--keep-open", args.keep_open,
-                   "default choice: leave the N longest loops open (2 for a sleeve)")
+                   "instead of the default: fill all but the N longest loops (2 for a sleeve)")
       ->check(whole_number_in(0));
+  command
+      ->add_option("--max-hole-size", args.max_hole_size,
+                   "fill only loops of at most N boundary edges")
+      ->check(whole_number_in(1));
+  command
+      ->add_option("--max-hole-diameter", args.max_hole_diameter,
+                   "fill only loops whose bounding-box diagonal is at most D mean edge lengths "
+                   "of the mesh")
+      ->check(number_above(0));
 }
 
 std::string format_vec(const Vec3& v) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]);
 }
 
+// A JSON number, or null where it is infinite (no curvature to predict from).
+nlohmann::json finite_or_null(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
 int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
+  args.check();
   const Mesh mesh = read_mesh(path);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, path);
-  const std::vector<int> outer = default_outer_loops(loops, args.keep_open);
-  auto is_outer = [&](int id) { return std::find(outer.begin(), outer.end(), id) != outer.end(); };
+  const HoleChoice choice = select_holes(loops, args.selection(mesh), path);
+  auto is_outer = [&](int id) {
+    return !std::binary_search(choice.fill.begin(), choice.fill.end(), id);
+  };
   if (json) {
     nlohmann::json out = {{"file", path}, {"loops", nlohmann::json::array()}};
     for (const BoundaryLoop& loop : loops) {
@@ -121,8 +142,14 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
                               {"centroid", loop.centroid},
                               {"bbox_diagonal", loop.bbox_diagonal},
                               {"mean_edge_length", loop.mean_edge_length},
+                              {"kind", json_name(loop.kind)},
+                              {"kind_reason", json_name(loop.kind_reason)},
+                              {"explanation", explain_kind(loop)},
                               {"outer", is_outer(loop.id)},
                               {"turning", loop.turning},
+                              {"curvature_density", loop.curvature_density},
+                              {"predicted_area", finite_or_null(loop.predicted_area)},
+                              {"component_area", loop.component_area},
                               {"hole_like", turns_like_a_hole(loop)},
                               {"disk", loop.is_disk},
                               {"reason", loop.reason},
@@ -137,15 +164,13 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
   for (const BoundaryLoop& loop : loops) {
     fmt::print(
         "loop {}: {} vertices, length {:.6g}, centroid {}, bbox diagonal {:.6g}, turning {:.0f} "
-        "deg "
-        "({}), {}{}{}\n",
+        "deg, {} ({}): {}{}\n",
         loop.id, loop.vertices.size(), loop.length, format_vec(loop.centroid), loop.bbox_diagonal,
-        loop.turning * 180 / M_PI, turns_like_a_hole(loop) ? "hole-like" : "edge-like",
-        is_outer(loop.id) ? "outer (left open by default)" : "filled by default",
-        loop.split_at.empty()
-            ? ""
-            : fmt::format(", split from the boundary at vertex {}", fmt::join(loop.split_at, ", ")),
-        loop.is_disk ? "" : ", not a disk: " + loop.reason);
+        loop.turning * 180 / M_PI, to_string(loop.kind),
+        is_outer(loop.id) ? "left open by default" : "filled by default", explain_kind(loop),
+        loop.split_at.empty() ? ""
+                              : fmt::format("; split from the boundary at vertex {}",
+                                            fmt::join(loop.split_at, ", ")));
   }
   return 0;
 }
@@ -153,6 +178,9 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
 // One input file and -o a file (or a folder to write into): exactly the
 // single-file run; several inputs or a folder: a batch.
 int run_fill(FillArgs args) {
+  args.selection.check();
+  if (args.dry_run) return run_dry_run(args);
+  if (args.output.empty()) throw Error(ErrorKind::Usage, "--output is required");
   std::error_code ec;
   if (args.inputs.size() > 1 || fs::is_directory(args.inputs.front(), ec)) return run_batch(args);
   const std::string input = args.inputs.front();
@@ -210,6 +238,7 @@ int run_render(const RenderArgs& args) {
 // The built-in example: a sheet with three sinusoidal folds, exactly
 // developable, with a disk cut across the folds.
 int run_demo(const std::string& out_dir, FillArgs args) {
+  args.selection.check();
   const std::string input = (fs::path(out_dir) / "input.obj").string();
   const std::string output = (fs::path(out_dir) / "filled.obj").string();
   args.report = (fs::path(out_dir) / "report.json").string();
@@ -328,15 +357,19 @@ int main(int argc, char** argv) {
   CLI::App* holes = app.add_subcommand("holes", "list the boundary loops of a mesh");
   holes->add_option("mesh", holes_path, "mesh file (OBJ, PLY, OFF, STL)")->required();
   holes->add_flag("--json", holes_json, "print JSON");
-  holes->add_option("--keep-open", holes_selection.keep_open, "loops counted as outer (default 1)")
+  holes
+      ->add_option("--keep-open", holes_selection.keep_open,
+                   "count the N longest loops as left open, the rest as filled")
       ->check(whole_number_in(0));
 
   FillArgs fill_args;
   CLI::App* fill = app.add_subcommand("fill", "fill holes and write the result");
   fill->add_option("inputs", fill_args.inputs, "input meshes, or folders of meshes")->required();
   fill->add_option("-o,--output", fill_args.output,
-                   "output mesh (format by extension), or output folder")
-      ->required();
+                   "output mesh (format by extension), or output folder (required unless "
+                   "--dry-run)");
+  fill->add_flag("--dry-run", fill_args.dry_run,
+                 "print each loop, whether it would be filled and why; write nothing");
   fill->add_option("--report", fill_args.report, "write a JSON report here");
   fill->add_option("--format", fill_args.format,
                    "format of outputs written into a folder (default: the input's)")

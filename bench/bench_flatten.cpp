@@ -62,7 +62,7 @@ std::vector<Case> cloth_cases(const fs::path& folder) {
 // The hole: the loop through `hole_vertex`, or the one loop that is not the
 // longest (the cloth's outer boundary).
 BoundaryLoop pick_hole(const std::vector<BoundaryLoop>& loops, const Case& c) {
-  const std::vector<int> outer = default_outer_loops(loops, 1);
+  const std::vector<int> outer = longest_loops(loops, 1);
   for (const BoundaryLoop& loop : loops) {
     const bool chosen = c.hole_vertex >= 0
                             ? std::find(loop.vertices.begin(), loop.vertices.end(),

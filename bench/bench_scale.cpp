@@ -220,11 +220,9 @@ FillReport run_file_stages(const Mesh& generated, const fs::path& dir, const std
   }));
   rows.push_back(measure_stage("find loops", [&](StageRow& row) {
     loops = find_boundary_loops(mesh, input.string());
-    // The slot's loop is longer than the sheet's edge: pick the loops that
-    // turn like holes rather than all but the longest.
-    HoleSelection holes;
-    holes.mode = HoleSelection::Mode::Auto;
-    choice = select_holes(loops, holes, input.string());
+    // The slot's loop is longer than the sheet's edge: the default picks the
+    // holes by what they are, not by length.
+    choice = select_holes(loops, {}, input.string());
     row.note = format("%.0f loops, %.0f to fill", loops.size(), choice.fill.size());
   }));
   rows.push_back(measure_stage("fill (all holes + stitch)", [&](StageRow& row) {
@@ -330,8 +328,7 @@ void patch_size_case(int max_patch, const FillOptions& options) {
         target, h.patch_vertex_count, h.loop_vertex_count, s.flatten, s.triangulate, s.arap,
         s.optimize, s.total, h.iterations, 1e3 * s.optimize / std::max(h.iterations, 1),
         h.filled ? to_string(h.stop_reason) : h.reason.c_str(),
-        1e3 * s.total / (h.patch_vertex_count / 1000.0), row.peak - row.rss_before,
-        past.c_str());
+        1e3 * s.total / (h.patch_vertex_count / 1000.0), row.peak - row.rss_before, past.c_str());
     std::fflush(stdout);
   }
   std::printf("\n");

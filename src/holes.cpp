@@ -1,4 +1,5 @@
-// Boundary loops of a triangle mesh and the choice of the loops to fill.
+// Boundary loops of a triangle mesh, their classification (holes, outer
+// edges, tube ends: see holes.h) and the choice of the loops to fill.
 //
 // Everything is found vertex by vertex from the faces around each vertex
 // (VertexFaces, compressed rows), so the memory beyond the mesh is that index
@@ -12,8 +13,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <limits>
 #include <numeric>
+#include <queue>
 #include <string>
 #include <utility>
 
@@ -242,6 +246,24 @@ double distance(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 }
 
+// `value` with `digits` significant digits (0: rounded to a whole number), as
+// messages print it.
+std::string format_number(double value, int digits = 3) {
+  if (std::isinf(value)) return value > 0 ? "infinity" : "-infinity";
+  char text[64];
+  if (digits == 0) {
+    std::snprintf(text, sizeof text, "%.0f", std::round(value) == 0 ? 0.0 : value);
+  } else {
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+  }
+  return text;
+}
+
+std::string format_point(const Vec3& p) {
+  return "(" + format_number(p[0], 6) + ", " + format_number(p[1], 6) + ", " +
+         format_number(p[2], 6) + ")";
+}
+
 // The angle at `p` between the directions to `a` and `b`, in [0, pi].
 double corner_angle(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
@@ -375,6 +397,8 @@ double distance_to_loop(const Vec3& p, const BoundaryLoop& loop, const std::stri
   return best;
 }
 
+// The loop closest to `point`. Throws Error(Usage) when the point is farther
+// from every loop than that loop's bounding-box diagonal (it names no loop).
 int nearest_loop(const std::vector<BoundaryLoop>& loops, const Vec3& point,
                  const std::string& source) {
   if (loops.empty()) {
@@ -383,12 +407,21 @@ int nearest_loop(const std::vector<BoundaryLoop>& loops, const Vec3& point,
   }
   int best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
+  bool within_a_loop = false;
   for (size_t i = 0; i < loops.size(); ++i) {
     const double d = distance_to_loop(point, loops[i], source);
+    within_a_loop |= d <= loops[i].bbox_diagonal;
     if (d < best_distance) {
       best_distance = d;
       best = static_cast<int>(i);
     }
+  }
+  if (!within_a_loop) {
+    throw Error(ErrorKind::Usage, source + ": no loop near the point " + format_point(point) +
+                                      ": the nearest, loop " + std::to_string(best) + ", is " +
+                                      format_number(best_distance) +
+                                      " away, farther than its size (" +
+                                      format_number(loops[best].bbox_diagonal) + ")");
   }
   return best;
 }
@@ -397,12 +430,13 @@ std::string not_a_disk(const BoundaryLoop& loop) {
   return "loop " + std::to_string(loop.id) + " is not a disk boundary (" + loop.reason + ")";
 }
 
-// The loops named explicitly (ids or near): all must exist and be disks.
+// The loops named explicitly (ids, and the nearest loop of each point): all
+// must exist and be disks.
 std::vector<int> named_loops(const std::vector<BoundaryLoop>& loops, const HoleSelection& selection,
                              const std::string& source) {
   std::vector<int> ids = selection.ids;
   if (selection.mode == HoleSelection::Mode::Near) {
-    ids = {nearest_loop(loops, selection.near, source)};
+    for (const Vec3& point : selection.near) ids.push_back(nearest_loop(loops, point, source));
   }
   for (int id : ids) {
     if (id < 0 || id >= static_cast<int>(loops.size())) {
@@ -417,6 +451,83 @@ std::vector<int> named_loops(const std::vector<BoundaryLoop>& loops, const HoleS
   return ids;
 }
 
+// Per vertex of a mesh: the sum of its face angles and a third of the area of
+// its faces; per vertex, its connected piece of surface, and per piece its
+// area.
+struct SurfaceMeasures {
+  std::vector<double> angle_sum, vertex_area;
+  std::vector<int> piece;
+  std::vector<double> piece_area;
+};
+
+SurfaceMeasures measure_surface(const Mesh& mesh) {
+  const int n = mesh.vertex_count();
+  SurfaceMeasures m{
+      std::vector<double>(n, 0.0), std::vector<double>(n, 0.0), std::vector<int>(n), {}};
+  std::iota(m.piece.begin(), m.piece.end(), 0);
+  const auto root = [&](int v) {
+    while (m.piece[v] != v) v = m.piece[v] = m.piece[m.piece[v]];
+    return v;
+  };
+  std::vector<double> face_area(mesh.faces.size());
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Tri& t = mesh.faces[f];
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    face_area[f] = 0.5 * std::hypot(u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                    u[0] * w[1] - u[1] * w[0]);
+    for (int k = 0; k < 3; ++k) {
+      m.angle_sum[t[k]] += corner_angle(mesh.positions[t[k]], mesh.positions[t[(k + 1) % 3]],
+                                        mesh.positions[t[(k + 2) % 3]]);
+      m.vertex_area[t[k]] += face_area[f] / 3;
+    }
+    m.piece[root(t[1])] = root(t[0]);
+    m.piece[root(t[2])] = root(t[0]);
+  }
+  for (int v = 0; v < n; ++v) m.piece[v] = root(v);
+  m.piece_area.assign(n, 0.0);
+  for (size_t f = 0; f < mesh.faces.size(); ++f)
+    m.piece_area[m.piece[mesh.faces[f][0]]] += face_area[f];
+  return m;
+}
+
+// The curvature density around `loop`: the angle defects of the interior
+// vertices within `radius` of it (along the edges, by Dijkstra from all its
+// vertices) over their area; 0 where there are none. `distance` (per vertex,
+// all infinite) is scratch space, left all infinite.
+double curvature_near(const Mesh& mesh, const VertexFaces& vertex_faces,
+                      const SurfaceMeasures& measures, const std::vector<char>& on_boundary,
+                      const BoundaryLoop& loop, double radius, std::vector<double>& band) {
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  std::vector<int> reached;
+  for (int v : loop.vertices) {
+    band[v] = 0;
+    reached.push_back(v);
+    queue.push({0.0, v});
+  }
+  double defect = 0, area = 0;
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > band[v]) continue;
+    if (!on_boundary[v]) {
+      defect += 2 * M_PI - measures.angle_sum[v];
+      area += measures.vertex_area[v];
+    }
+    for (int i = vertex_faces.start[v]; i < vertex_faces.start[v + 1]; ++i) {
+      for (int w : mesh.faces[vertex_faces.faces[i]]) {
+        const double through = d + distance(mesh.positions[v], mesh.positions[w]);
+        if (through > radius || through >= band[w]) continue;
+        if (std::isinf(band[w])) reached.push_back(w);
+        band[w] = through;
+        queue.push({through, w});
+      }
+    }
+  }
+  for (int v : reached) band[v] = std::numeric_limits<double>::infinity();
+  return area > 0 ? defect / area : 0.0;
+}
 }  // namespace
 
 std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::string& source) {
@@ -434,49 +545,207 @@ std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::strin
   }
   flag_pinched_loops(loops, origin, linked.pinched);
   measure_turning(mesh, loops);
+  classify_loops(mesh, loops);
   return loops;
 }
 
-std::vector<int> default_outer_loops(const std::vector<BoundaryLoop>& loops, int keep_open) {
+void classify_loops(const Mesh& mesh, std::vector<BoundaryLoop>& loops,
+                    const ClassifyOptions& options) {
+  if (loops.empty()) return;
+  const SurfaceMeasures measures = measure_surface(mesh);
+  const VertexFaces vertex_faces = build_vertex_faces(mesh.faces, mesh.vertex_count());
+  std::vector<char> on_boundary(mesh.positions.size(), 0);
+  for (const BoundaryLoop& loop : loops) {
+    for (int v : loop.vertices) on_boundary[v] = 1;
+  }
+  std::vector<double> scratch(mesh.positions.size(), std::numeric_limits<double>::infinity());
+  for (BoundaryLoop& loop : loops) {
+    loop.component_area = measures.piece_area[measures.piece[loop.vertices.front()]];
+    const double radius =
+        std::max(options.band * loop.bbox_diagonal, options.band_edges * loop.mean_edge_length);
+    loop.curvature_density =
+        curvature_near(mesh, vertex_faces, measures, on_boundary, loop, radius, scratch);
+    loop.predicted_area = loop.curvature_density > 0
+                              ? (2 * M_PI - loop.turning) / loop.curvature_density
+                              : std::numeric_limits<double>::infinity();
+    const auto set = [&](LoopKind kind, LoopKindReason reason) {
+      loop.kind = kind;
+      loop.kind_reason = reason;
+    };
+    if (!loop.is_disk) {
+      set(LoopKind::NotADisk, LoopKindReason::TouchesAnotherPiece);
+    } else if (loop.turning > options.hole_turning) {
+      set(LoopKind::Hole, LoopKindReason::TurnsLikeAHole);
+    } else if (loop.predicted_area < loop.component_area) {
+      set(LoopKind::Hole, LoopKindReason::ClosesTheCurvature);
+    } else if (loop.turning < options.edge_turning) {
+      set(LoopKind::OuterEdge, LoopKindReason::TurnsLikeAnEdge);
+    } else {
+      set(LoopKind::TubeEnd, LoopKindReason::TurnsLikeATubeEnd);
+    }
+  }
+}
+
+const char* to_string(LoopKind kind) {
+  switch (kind) {
+    case LoopKind::Hole:
+      return "hole";
+    case LoopKind::OuterEdge:
+      return "outer edge";
+    case LoopKind::TubeEnd:
+      return "tube end";
+    case LoopKind::NotADisk:
+      return "not a disk";
+  }
+  return "?";
+}
+
+const char* json_name(LoopKind kind) {
+  switch (kind) {
+    case LoopKind::Hole:
+      return "hole";
+    case LoopKind::OuterEdge:
+      return "outer_edge";
+    case LoopKind::TubeEnd:
+      return "tube_end";
+    case LoopKind::NotADisk:
+      return "not_a_disk";
+  }
+  return "?";
+}
+
+const char* json_name(LoopKindReason reason) {
+  switch (reason) {
+    case LoopKindReason::TurnsLikeAHole:
+      return "turns_like_a_hole";
+    case LoopKindReason::ClosesTheCurvature:
+      return "closes_the_curvature";
+    case LoopKindReason::TurnsLikeAnEdge:
+      return "turns_like_an_edge";
+    case LoopKindReason::TurnsLikeATubeEnd:
+      return "turns_like_a_tube_end";
+    case LoopKindReason::TouchesAnotherPiece:
+      return "touches_another_piece";
+  }
+  return "?";
+}
+
+std::string explain_kind(const BoundaryLoop& loop) {
+  const std::string turns = "turns by " + format_number(loop.turning * 180 / M_PI, 0) + " degrees";
+  const std::string curvature = "the surrounding curvature (K " +
+                                format_number(loop.curvature_density) +
+                                ") closes it with an area of " + format_number(loop.predicted_area);
+  const std::string present = format_number(loop.component_area) + " present";
+  // Why the curvature does not make an edge a hole, where it is positive.
+  const std::string not_closing =
+      loop.curvature_density > 0 ? ", and " + curvature + ", not less than the " + present : "";
+  switch (loop.kind_reason) {
+    case LoopKindReason::TurnsLikeAHole:
+      return turns + ", more than 180, like the edge of a missing piece";
+    case LoopKindReason::ClosesTheCurvature:
+      return turns + ", but " + curvature + ", less than the " + present;
+    case LoopKindReason::TurnsLikeAnEdge:
+      return turns + ", like a sheet's outer edge" + not_closing;
+    case LoopKindReason::TurnsLikeATubeEnd:
+      return turns + ", like the end of a tube" + not_closing;
+    case LoopKindReason::TouchesAnotherPiece:
+      return "is not a disk boundary (" + loop.reason + ")";
+  }
+  return "";
+}
+
+const char* to_string(ChoiceReason reason) {
+  switch (reason) {
+    case ChoiceReason::IsAHole:
+      return "a hole";
+    case ChoiceReason::Named:
+      return "named";
+    case ChoiceReason::NotLongest:
+      return "not among the longest";
+    case ChoiceReason::NotAHole:
+      return "not a hole";
+    case ChoiceReason::NotADisk:
+      return "not a disk boundary";
+    case ChoiceReason::NotNamed:
+      return "not named";
+    case ChoiceReason::Longest:
+      return "among the longest";
+    case ChoiceReason::TooManyEdges:
+      return "too many edges";
+    case ChoiceReason::TooWide:
+      return "too wide";
+  }
+  return "?";
+}
+
+std::vector<int> longest_loops(const std::vector<BoundaryLoop>& loops, int count) {
   std::vector<int> order(loops.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return loops[a].length > loops[b].length; });
-  order.resize(std::min(order.size(), static_cast<size_t>(std::max(keep_open, 0))));
+  order.resize(std::min(order.size(), static_cast<size_t>(std::max(count, 0))));
   std::sort(order.begin(), order.end());
   return order;
 }
 
 bool turns_like_a_hole(const BoundaryLoop& loop) { return loop.turning > M_PI; }
 
+double mean_edge_length(const Mesh& mesh) {
+  const EdgeTopology topology = build_edge_topology(mesh.faces, mesh.vertex_count());
+  double sum = 0;
+  for (const Edge& e : topology.edges) sum += distance(mesh.positions[e.v0], mesh.positions[e.v1]);
+  return topology.edges.empty() ? 0.0 : sum / static_cast<double>(topology.edges.size());
+}
+
 HoleChoice select_holes(const std::vector<BoundaryLoop>& loops, const HoleSelection& selection,
                         const std::string& source) {
   using Mode = HoleSelection::Mode;
-  std::vector<char> to_fill(loops.size(), 0);
+  const size_t n = loops.size();
   HoleChoice choice;
+  choice.reasons.assign(n, ChoiceReason::NotNamed);
+  const auto skip_not_a_disk = [&](size_t id) {
+    choice.reasons[id] = ChoiceReason::NotADisk;
+    choice.warnings.push_back(not_a_disk(loops[id]) + ": left open");
+  };
   if (selection.mode == Mode::Ids || selection.mode == Mode::Near) {
-    for (int id : named_loops(loops, selection, source)) to_fill[id] = 1;
-  } else {
-    std::vector<char> outer(loops.size(), 0);
-    if (selection.mode == Mode::Default) {
-      for (int id : default_outer_loops(loops, selection.keep_open)) outer[id] = 1;
-    }
-    if (selection.mode == Mode::Auto) {
-      for (size_t id = 0; id < loops.size(); ++id) outer[id] = !turns_like_a_hole(loops[id]);
-    }
-    for (size_t id = 0; id < loops.size(); ++id) {
-      if (outer[id]) continue;
-      if (loops[id].is_disk) {
-        to_fill[id] = 1;
+    for (int id : named_loops(loops, selection, source)) choice.reasons[id] = ChoiceReason::Named;
+  } else if (selection.mode == Mode::KeepOpen) {
+    std::vector<char> longest(n, 0);
+    for (int id : longest_loops(loops, selection.keep_open)) longest[id] = 1;
+    for (size_t id = 0; id < n; ++id) {
+      if (longest[id]) {
+        choice.reasons[id] = ChoiceReason::Longest;
+      } else if (!loops[id].is_disk) {
+        skip_not_a_disk(id);
       } else {
-        choice.warnings.push_back(not_a_disk(loops[id]) + ": left open");
+        choice.reasons[id] = ChoiceReason::NotLongest;
+      }
+    }
+  } else {
+    for (size_t id = 0; id < n; ++id) {
+      if (loops[id].kind == LoopKind::NotADisk) {
+        skip_not_a_disk(id);
+      } else {
+        choice.reasons[id] =
+            loops[id].kind == LoopKind::Hole ? ChoiceReason::IsAHole : ChoiceReason::NotAHole;
       }
     }
   }
-  for (size_t id = 0; id < loops.size(); ++id) {
-    (to_fill[id] ? choice.fill : choice.left_open).push_back(static_cast<int>(id));
+  for (size_t id = 0; id < n; ++id) {
+    ChoiceReason& reason = choice.reasons[id];
+    const bool chosen = reason == ChoiceReason::IsAHole || reason == ChoiceReason::Named ||
+                        reason == ChoiceReason::NotLongest;
+    if (chosen && selection.max_hole_size > 0 &&
+        loops[id].vertices.size() > static_cast<size_t>(selection.max_hole_size)) {
+      reason = ChoiceReason::TooManyEdges;
+    } else if (chosen && selection.max_hole_diameter > 0 &&
+               loops[id].bbox_diagonal > selection.max_hole_diameter) {
+      reason = ChoiceReason::TooWide;
+    }
+    const bool fill = reason == ChoiceReason::IsAHole || reason == ChoiceReason::Named ||
+                      reason == ChoiceReason::NotLongest;
+    (fill ? choice.fill : choice.left_open).push_back(static_cast<int>(id));
   }
   return choice;
 }
-
 }  // namespace foldfill

@@ -759,8 +759,8 @@ TEST_F(CliTest, UsageErrorsAreOneLine) {
 // boundary and the default leaves it open with a warning.
 std::string pinched_hole_obj() { return grid_obj(5, {}, 0.0) + "v -1 0 0\nv 0 -1 0\nf 1 26 27\n"; }
 
-// An open cylinder: two loops of the same length, neither turning like a
-// hole, so the default and --holes auto differ, with a warning.
+// An open cylinder: two loops of the same length, tube ends, neither turning
+// like a hole.
 std::string tube_obj() {
   std::string obj;
   const int sides = 12, rings = 4;
@@ -818,8 +818,8 @@ TEST_F(CliTest, WarningsNameTheirFileOnce) {
   EXPECT_NE(batch.err.find("foldfill: warning: " + pinched + ": loop 1 is not a disk boundary"),
             std::string::npos)
       << batch.err;
-  EXPECT_NE(batch.err.find("foldfill: warning: " + tube + ": the default fills"), std::string::npos)
-      << batch.err;
+  // The default leaves both ends of the tube open, without a warning.
+  EXPECT_EQ(batch.err.find(tube), std::string::npos) << batch.err;
   for (const CliRun& run : {single, batch}) {
     std::istringstream lines(run.err);
     for (std::string line; std::getline(lines, line);) {
@@ -978,6 +978,172 @@ TEST_F(CliTest, CrossingsAreReportedAndWarnedPerHole) {
   const CliRun quiet = run_cli(liepa_fill + " -q", dir_);
   EXPECT_EQ(quiet.code, 0) << quiet.err;
   EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
+// A flat 9 x 9 vertex grid with a one-cell hole (loop 1, 4 vertices, near
+// (1.5, 1.5)) and a 2 x 2-cell one (loop 2, 8 vertices, near (5, 5)).
+std::string grid_with_two_holes_obj() {
+  return grid_obj(9, {{1, 1}, {4, 4}, {5, 4}, {4, 5}, {5, 5}}, 0.0);
+}
+
+// The lines of `text` that contain `words`.
+int lines_with(const std::string& text, const std::string& words) {
+  std::istringstream lines(text);
+  int count = 0;
+  for (std::string line; std::getline(lines, line);) count += line.find(words) != std::string::npos;
+  return count;
+}
+
+TEST_F(CliTest, DryRunWritesNothing) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj", report = dir_ / "r.json";
+  write_text(input, grid_with_two_holes_obj());
+  const CliRun run = run_cli("fill " + input.string() + " -o " + output.string() + " --report " +
+                                 report.string() + " --dry-run",
+                             dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_FALSE(fs::exists(output));
+  EXPECT_FALSE(fs::exists(report));
+  EXPECT_NE(run.out.find("would fill loops 1, 2"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("loop 0: leave open (not a hole): outer edge, 32 vertices, turning -360 "
+                         "deg: turns by -360 degrees, like a sheet's outer edge"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("loop 1: fill (a hole): hole, 4 vertices, turning 360 deg: turns by 360"),
+            std::string::npos)
+      << run.out;
+  // Without -o, and over a folder.
+  const CliRun bare = run_cli("fill " + input.string() + " --dry-run", dir_);
+  EXPECT_EQ(bare.code, 0) << bare.err;
+  EXPECT_EQ(bare.out, run.out);
+  const CliRun folder = run_cli("fill " + dir_.string() + " --dry-run", dir_);
+  EXPECT_EQ(folder.code, 0) << folder.err;
+  EXPECT_NE(folder.out.find(input.string() + ": 3 boundary loops"), std::string::npos)
+      << folder.out;
+  EXPECT_EQ(run_cli("fill " + input.string(), dir_).code, 2);  // -o needed to fill
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"grid.obj", "stderr.txt", "stdout.txt"}));
+}
+
+TEST_F(CliTest, HolesAllFillsTheHolesAndSaysOnceWhatStaysOpen) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_two_holes_obj());
+  const CliRun run = run_cli(
+      "fill " + input.string() + " -o " + output.string() + " --holes all --max-iterations 50",
+      dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_TRUE(run.err.empty()) << run.err;
+  EXPECT_EQ(lines_with(run.out, "left open"), 1) << run.out;
+  EXPECT_NE(run.out.find("1 loop left open as outer edges: 0 (outer edge, 32 vertices)"),
+            std::string::npos)
+      << run.out;
+  EXPECT_EQ(lines_with(run.out, "filled loop"), 2) << run.out;
+  EXPECT_TRUE(fs::exists(output));
+}
+
+TEST_F(CliTest, MaxHoleSizeAndDiameterLeaveLargerHolesOpen) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_two_holes_obj());
+  const std::string dry = "fill " + input.string() + " --dry-run ";
+  CliRun run = run_cli(dry + "--max-hole-size 6", dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("would fill loop 1\n"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("loop 2: leave open (too many edges): hole, 8 vertices"),
+            std::string::npos)
+      << run.out;
+  // The mesh's mean edge length is (2 + sqrt 2) / 3: the one-cell hole's
+  // diagonal is 1.24 of them, the 2 x 2 hole's 2.49.
+  run = run_cli(dry + "--max-hole-diameter 2", dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("loop 2: leave open (too wide)"), std::string::npos) << run.out;
+  run = run_cli(dry + "--max-hole-diameter 3", dir_);
+  EXPECT_NE(run.out.find("would fill loops 1, 2"), std::string::npos) << run.out;
+  EXPECT_EQ(run_cli(dry + "--max-hole-size 0", dir_).code, 2);
+  EXPECT_EQ(run_cli(dry + "--max-hole-diameter -1", dir_).code, 2);
+}
+
+TEST_F(CliTest, EachNearPointPicksItsLoop) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_two_holes_obj());
+  const std::string dry = "fill " + input.string() + " --dry-run ";
+  CliRun run = run_cli(dry + "--near 1.5,1.5,0 --near 5,5,0.1", dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("would fill loops 1, 2"), std::string::npos) << run.out;
+  run = run_cli(dry + "--near 5,5,0 --holes 0", dir_);
+  EXPECT_NE(run.out.find("would fill loops 0, 2"), std::string::npos) << run.out;
+  EXPECT_EQ(run_cli(dry + "--near 5,5", dir_).code, 2);
+  EXPECT_EQ(run_cli(dry + "--near 5,5,0 --holes all", dir_).code, 2);
+  EXPECT_EQ(run_cli(dry + "--near 5,5,0 --keep-open 1", dir_).code, 2);
+}
+
+TEST_F(CliTest, NearAPointFarFromEveryLoopIsAnError) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_two_holes_obj());
+  const CliRun run = run_cli(
+      "fill " + input.string() + " -o " + output.string() + " --near 1.5,1.5,0 --near 4,4,50",
+      dir_);
+  EXPECT_EQ(run.code, 2) << run.err;
+  EXPECT_NE(
+      run.err.find(input.string() + ": no loop near the point (4, 4, 50): the nearest, loop "),
+      std::string::npos)
+      << run.err;
+  EXPECT_EQ(line_count(run.err), 1) << run.err;
+  EXPECT_FALSE(fs::exists(output));
+}
+
+// A loop the user names is filled whatever its kind (the fill decides what it
+// can do with it); here only the selection is checked.
+TEST_F(CliTest, NamedOuterLoopIsSelected) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_two_holes_obj());
+  for (const char* option : {"--holes 0", "--near 4,-0.2,0"}) {
+    const CliRun run =
+        run_cli("fill " + input.string() + " --dry-run " + std::string(option), dir_);
+    EXPECT_EQ(run.code, 0) << run.err;
+    EXPECT_NE(run.out.find("loop 0: fill (named): outer edge"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("loop 1: leave open (not named): hole"), std::string::npos) << run.out;
+  }
+}
+
+// --keep-open N is the rule by length, only when asked: on a tube it fills
+// one end, and says that the default would not.
+TEST_F(CliTest, KeepOpenFillsAllButTheLongestLoops) {
+  const fs::path input = dir_ / "tube.obj";
+  write_text(input, tube_obj());
+  CliRun run = run_cli("fill " + input.string() + " --dry-run", dir_);
+  EXPECT_NE(run.out.find("would fill nothing"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("loop 0: leave open (not a hole): tube end"), std::string::npos)
+      << run.out;
+  run = run_cli("fill " + input.string() + " --dry-run --keep-open 1", dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("loop 1: fill (not among the longest): tube end"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.err.find("--keep-open 1 fills other loops than the default"), std::string::npos)
+      << run.err;
+  EXPECT_EQ(run_cli("fill " + input.string() + " --dry-run --keep-open 1 --holes 1", dir_).code, 2);
+}
+
+TEST_F(CliTest, HolesPrintsEachLoopsKindAndWhy) {
+  const fs::path input = dir_ / "tube.obj";
+  write_text(input, tube_obj());
+  CliRun run = run_cli("holes " + input.string(), dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(lines_with(run.out,
+                       "tube end (left open by default): turns by 0 degrees, like the "
+                       "end of a tube"),
+            2)
+      << run.out;
+  run = run_cli("holes --json " + input.string(), dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  for (const auto& loop : j["loops"]) {
+    EXPECT_EQ(loop["kind"], "tube_end");
+    EXPECT_EQ(loop["kind_reason"], "turns_like_a_tube_end");
+    EXPECT_NE(loop["explanation"].get<std::string>().find("like the end of a tube"),
+              std::string::npos);
+    EXPECT_TRUE(loop["outer"].get<bool>());
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -15,6 +16,7 @@
 #include "foldfill/error.h"
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
+#include "foldfill/test_surfaces.h"
 #include "foldfill/topology.h"
 #include "test_support.h"
 
@@ -88,8 +90,9 @@ double normal_z(const Mesh& mesh, int a, int b, int c) {
   return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
 }
 
-HoleSelection by_default(int keep_open) {
+HoleSelection keeping_open(int keep_open) {
   HoleSelection selection;
+  selection.mode = HoleSelection::Mode::KeepOpen;
   selection.keep_open = keep_open;
   return selection;
 }
@@ -106,11 +109,12 @@ HoleSelection by_ids(std::vector<int> ids) {
   return selection;
 }
 
-HoleSelection near(Vec3 point) {
+HoleSelection near(std::vector<Vec3> points) {
   HoleSelection selection = by_mode(HoleSelection::Mode::Near);
-  selection.near = point;
+  selection.near = std::move(points);
   return selection;
 }
+HoleSelection near(Vec3 point) { return near(std::vector<Vec3>{point}); }
 
 // The message of the Error of kind `kind` that `action` throws.
 template <typename Action>
@@ -181,9 +185,11 @@ TEST(Holes, GridWithTwoHoles) {
   EXPECT_EQ(loops[1].vertices.front(), 8);   // (1, 1)
   EXPECT_EQ(loops[2].vertices.front(), 25);  // (4, 3)
   EXPECT_EQ(select_holes(loops, {}).fill, Ids({1, 2}));
+  // All: every hole, said explicitly; the outer edge stays open.
   const HoleChoice all = select_holes(loops, by_mode(HoleSelection::Mode::All));
-  EXPECT_EQ(all.fill, Ids({0, 1, 2}));
-  EXPECT_TRUE(all.left_open.empty());
+  EXPECT_EQ(all.fill, Ids({1, 2}));
+  EXPECT_EQ(all.left_open, Ids({0}));
+  EXPECT_EQ(all.reasons[0], ChoiceReason::NotAHole);
   const HoleChoice ids = select_holes(loops, by_ids({2, 0, 2}));
   EXPECT_EQ(ids.fill, Ids({0, 2}));
   EXPECT_EQ(ids.left_open, Ids{1});
@@ -221,11 +227,11 @@ TEST(Holes, AnnulusDefaultLeavesTheLongerLoopOpen) {
   ASSERT_EQ(loops.size(), 2u);
   EXPECT_DOUBLE_EQ(loops[0].length, 16);
   EXPECT_DOUBLE_EQ(loops[1].length, 8);
-  EXPECT_EQ(default_outer_loops(loops), Ids{0});
+  EXPECT_EQ(longest_loops(loops), Ids{0});
   HoleChoice choice = select_holes(loops, {});
   EXPECT_EQ(choice.fill, Ids{1});
   EXPECT_EQ(choice.left_open, Ids{0});
-  choice = select_holes(loops, by_default(0));
+  choice = select_holes(loops, keeping_open(0));
   EXPECT_EQ(choice.fill, Ids({0, 1}));
   EXPECT_EQ(select_holes(loops, near({2, 2, 0})).fill, Ids{1});
   EXPECT_EQ(select_holes(loops, near({2, -0.5, 0})).fill, Ids{0});
@@ -238,29 +244,37 @@ TEST(Holes, TubeHasTwoEqualLoops) {
   EXPECT_EQ(loops[1].vertices.front(), 24);
   EXPECT_NEAR(loops[0].length, loops[1].length, 1e-12);
   EXPECT_NEAR(loops[1].centroid[2], 3, 1e-12);
-  HoleChoice choice = select_holes(loops, by_default(2));
+  // The default leaves both ends open: neither turns like a hole.
+  HoleChoice choice = select_holes(loops, {});
+  EXPECT_TRUE(choice.fill.empty());
+  EXPECT_EQ(loops[0].kind, LoopKind::TubeEnd);
+  EXPECT_EQ(loops[1].kind, LoopKind::TubeEnd);
+  choice = select_holes(loops, keeping_open(2));
   EXPECT_TRUE(choice.fill.empty());
   EXPECT_EQ(choice.left_open, Ids({0, 1}));
-  choice = select_holes(loops, by_default(1));
+  choice = select_holes(loops, keeping_open(1));
   EXPECT_EQ(choice.fill, Ids{1});  // equal lengths: the lower id stays open
   EXPECT_EQ(choice.left_open, Ids{0});
-  EXPECT_EQ(default_outer_loops(loops, 5), Ids({0, 1}));
+  EXPECT_EQ(longest_loops(loops, 5), Ids({0, 1}));
 }
 
 // Gauss-Bonnet: a hole in a flat sheet turns by +2 pi, the sheet's outer edge
-// by -2 pi, a tube's ends by 0; Auto fills only what turns like a hole.
+// by -2 pi, a tube's ends by 0; the default fills only what turns like a hole.
 TEST(Holes, TurningTellsHolesFromOuterEdges) {
   const auto sheet = find_boundary_loops(grid(6, {{1, 1}, {2, 1}, {4, 3}}));
   ASSERT_EQ(sheet.size(), 3u);
   EXPECT_NEAR(sheet[0].turning, -2 * M_PI, 1e-9);
   EXPECT_NEAR(sheet[1].turning, 2 * M_PI, 1e-9);
   EXPECT_NEAR(sheet[2].turning, 2 * M_PI, 1e-9);
-  EXPECT_EQ(select_holes(sheet, by_mode(HoleSelection::Mode::Auto)).fill, Ids({1, 2}));
+  EXPECT_EQ(select_holes(sheet, {}).fill, Ids({1, 2}));
+  EXPECT_EQ(sheet[0].kind, LoopKind::OuterEdge);
+  EXPECT_EQ(sheet[0].kind_reason, LoopKindReason::TurnsLikeAnEdge);
+  EXPECT_EQ(sheet[1].kind_reason, LoopKindReason::TurnsLikeAHole);
   const auto ends = find_boundary_loops(tube(16, 4));
   ASSERT_EQ(ends.size(), 2u);
   EXPECT_NEAR(ends[0].turning, 0, 1e-9);
   EXPECT_NEAR(ends[1].turning, 0, 1e-9);
-  EXPECT_TRUE(select_holes(ends, by_mode(HoleSelection::Mode::Auto)).fill.empty());
+  EXPECT_TRUE(select_holes(ends, {}).fill.empty());
 }
 
 TEST(Holes, BowtieLoopsAreNotDisks) {
@@ -279,9 +293,12 @@ TEST(Holes, BowtieLoopsAreNotDisks) {
   const HoleChoice choice = select_holes(loops, {});
   EXPECT_TRUE(choice.fill.empty());
   EXPECT_EQ(choice.left_open, Ids({0, 1}));
-  ASSERT_EQ(choice.warnings.size(), 1u);  // loop 1 is the longest: outer, left open anyway
+  EXPECT_EQ(loops[0].kind, LoopKind::NotADisk);
+  ASSERT_EQ(choice.warnings.size(), 2u);
   EXPECT_EQ(choice.warnings[0],
             "loop 0 is not a disk boundary (touches loop 1 at vertex 0): left open");
+  // Keeping the longest open, only the other one is skipped.
+  EXPECT_EQ(select_holes(loops, keeping_open(1)).warnings.size(), 1u);
   EXPECT_EQ(select_holes(loops, by_mode(HoleSelection::Mode::All)).warnings.size(), 2u);
 
   EXPECT_EQ(error_of(ErrorKind::NotADisk, [&] { select_holes(loops, by_ids({0}), "bowtie.obj"); }),
@@ -400,7 +417,7 @@ TEST(Holes, VertexOfVeryHighDegree) {
 }
 
 // The reference cases: the hole loop has the documented size, the other loops
-// are the outer boundaries, and both the default and `near` pick the hole.
+// are the outer boundaries, and the default, ids and `near` pick the hole.
 TEST(Holes, ReferenceCases) {
   FOLDFILL_REQUIRE_SHARED();
   const auto folder = testing::shared_dir() / "data" / "reference";
@@ -431,20 +448,19 @@ TEST(Holes, ReferenceCases) {
     EXPECT_EQ(select_holes(loops, near(mesh.positions[hole_vertex]), name).fill, Ids{hole.id});
     EXPECT_EQ(select_holes(loops, by_ids({hole.id}), name).fill, Ids{hole.id});
 
-    // The default keeps the longest loops open, so it finds the hole exactly
-    // when the hole is shorter than every outer boundary. It is not on
-    // paper1 and sim2, whose holes are longer: there it must leave the hole open
-    // (the user has to name it), never fill more than the other loops.
+    // The default fills exactly the hole, and leaves the outer edges open.
+    const HoleChoice choice = select_holes(loops, {}, name);
+    EXPECT_EQ(choice.fill, Ids{hole.id});
+    EXPECT_EQ(hole.kind, LoopKind::Hole);
+    EXPECT_EQ(choice.left_open.size(), static_cast<size_t>(outer_loops));
+    EXPECT_TRUE(choice.warnings.empty());
+    // Keeping the longest loops open finds the hole only when it is shorter
+    // than every outer boundary; it is not on paper1 and sim2.
     const bool hole_is_shortest = std::all_of(loops.begin(), loops.end(), [&](const auto& loop) {
       return loop.id == hole.id || loop.length > hole.length;
     });
-    const HoleChoice choice = select_holes(loops, by_default(outer_loops), name);
-    EXPECT_EQ(choice.fill.size(), 1u);
-    EXPECT_EQ(choice.left_open.size(), static_cast<size_t>(outer_loops));
-    EXPECT_EQ(choice.fill == Ids{hole.id}, hole_is_shortest);
-    EXPECT_TRUE(choice.warnings.empty());
-    // The turning of the loops tells the hole from the outer edges on every case.
-    EXPECT_EQ(select_holes(loops, by_mode(HoleSelection::Mode::Auto), name).fill, Ids{hole.id});
+    EXPECT_EQ(select_holes(loops, keeping_open(outer_loops), name).fill == Ids{hole.id},
+              hole_is_shortest);
 
     std::cout << name << ": " << mesh.vertex_count() << " vertices, " << mesh.face_count()
               << " faces, " << loops.size() << " loops:";
@@ -453,8 +469,202 @@ TEST(Holes, ReferenceCases) {
                 << loop.vertices.size() << " vertices, length " << loop.length << ", turning "
                 << loop.turning << "]";
     }
-    std::cout << (hole_is_shortest ? "" : "; the default leaves the hole open") << "\n";
+    std::cout << (hole_is_shortest ? "" : "; --keep-open leaves the hole open") << "\n";
   }
+}
+
+// The cloth cases: each *_hole.obj has one hole, of the size the manifest
+// gives, and the default fills exactly that loop.
+TEST(Holes, ClothCasesDefaultFillsTheirHole) {
+  FOLDFILL_REQUIRE_SHARED();
+  const auto folder = testing::shared_dir() / "data" / "cloth";
+  std::ifstream file(folder / "manifest.json");
+  ASSERT_TRUE(file) << "cannot open cloth/manifest.json";
+  const nlohmann::json cases = nlohmann::json::parse(file);
+  ASSERT_FALSE(cases.empty());
+  for (const auto& entry : cases) {
+    const std::string name = entry["case"].get<std::string>() + "_hole.obj";
+    SCOPED_TRACE(name);
+    const auto loops = find_boundary_loops(read_mesh((folder / name).string()), name);
+    const HoleChoice choice = select_holes(loops, {}, name);
+    ASSERT_EQ(choice.fill.size(), 1u);
+    EXPECT_EQ(loops[choice.fill[0]].vertices.size(), entry["hole_boundary_vertices"].get<size_t>());
+    EXPECT_EQ(choice.left_open.size(), loops.size() - 1);
+  }
+}
+
+// The ids of the loops through `vertices` (one vertex on each), ascending.
+Ids loops_through(const std::vector<BoundaryLoop>& loops, const std::vector<int>& vertices) {
+  Ids ids;
+  for (int v : vertices) {
+    for (const BoundaryLoop& loop : loops) {
+      if (std::count(loop.vertices.begin(), loop.vertices.end(), v)) ids.push_back(loop.id);
+    }
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+// Checks that the default fills exactly the holes cut from `surface` and
+// leaves its other loops open, as kind `open_kind`. Returns the loops.
+std::vector<BoundaryLoop> expect_default_fills_the_holes(const HoledSurface& surface,
+                                                         LoopKind open_kind = LoopKind::OuterEdge) {
+  const auto loops = find_boundary_loops(surface.mesh);
+  const HoleChoice choice = select_holes(loops, {});
+  EXPECT_EQ(choice.fill, loops_through(loops, surface.hole_vertices));
+  EXPECT_EQ(choice.left_open, loops_through(loops, surface.open_vertices));
+  EXPECT_TRUE(choice.warnings.empty());
+  for (int id : choice.left_open) {
+    EXPECT_EQ(loops[id].kind, open_kind) << "loop " << id << ": " << explain_kind(loops[id]);
+  }
+  for (int id : choice.fill) EXPECT_EQ(choice.reasons[id], ChoiceReason::IsAHole);
+  return loops;
+}
+
+TEST(Classify, SphereHolesAllFilledTheCapByItsCurvature) {
+  const HoledSurface sphere = make_holed_sphere();
+  const auto loops = expect_default_fills_the_holes(sphere);
+  const BoundaryLoop& cap = loops[loops_through(loops, {sphere.hole_vertices[0]}).at(0)];
+  EXPECT_LT(cap.turning, M_PI);
+  EXPECT_EQ(cap.kind_reason, LoopKindReason::ClosesTheCurvature);
+  EXPECT_NEAR(cap.curvature_density, 1.0, 0.05);
+  // The cap's area, 2 pi (1 - cos 65 degrees), as the curvature predicts it.
+  EXPECT_NEAR(cap.predicted_area, 2 * M_PI * (1 - std::cos(65 * M_PI / 180)), 0.3);
+  EXPECT_NE(explain_kind(cap).find("closes it"), std::string::npos) << explain_kind(cap);
+}
+
+// Angle defects are summed over a band, so noise in the positions mostly
+// cancels: the cap of a sphere whose vertices are moved at random by a tenth
+// of an edge is still a hole.
+TEST(Classify, SphereCapIsAHoleThroughNoise) {
+  HoledSurface sphere = make_holed_sphere();
+  std::mt19937_64 random(7);
+  const double edge = mean_edge_length(sphere.mesh);
+  for (Vec3& p : sphere.mesh.positions) {
+    for (double& c : p) c += 0.1 * edge * (static_cast<double>(random() >> 11) * 0x1.0p-53 - 0.5);
+  }
+  expect_default_fills_the_holes(sphere);
+}
+
+TEST(Classify, TorusHolesOutsideInsideAndOnTopAreHoles) {
+  expect_default_fills_the_holes(make_holed_torus());
+}
+
+TEST(Classify, BlobHolesAreAllHoles) {
+  const HoledSurface blob = make_holed_blob();
+  const auto loops = expect_default_fills_the_holes(blob);
+  EXPECT_EQ(loops.size(), blob.hole_vertices.size());
+}
+
+TEST(Classify, BoxCornerHoleIsAHole) {
+  expect_default_fills_the_holes(make_box_with_corner_hole());
+}
+
+TEST(Classify, SleeveEndsStayOpenAndItsLongerHoleIsFilled) {
+  expect_default_fills_the_holes(make_holed_sleeve(), LoopKind::TubeEnd);
+}
+
+TEST(Classify, SheetHoleLongerThanTheOuterEdgeIsFilled) {
+  expect_default_fills_the_holes(make_sheet_with_long_hole());
+}
+
+TEST(Classify, SmallHolesOfThreeFourAndFiveVerticesAreFilled) {
+  expect_default_fills_the_holes(make_sheet_with_small_holes());
+}
+
+TEST(Classify, RuffleSlotIsAHole) { expect_default_fills_the_holes(make_ruffle_with_c_slot()); }
+
+// A dome's rim turns by less than a hole's would, and its curvature would
+// close it only with the rest of the sphere, larger than the dome: an edge,
+// however deep the dome, up to a hemisphere (where it turns by 0, a tube's end).
+TEST(Classify, DomeRimStaysOpenAndItsHoleIsFilled) {
+  for (double rim : {50.0, 60.0, 70.0, 80.0}) {
+    SCOPED_TRACE(rim);
+    DomeSurfaceOptions options;
+    options.rim_degrees = rim;
+    const HoledSurface dome = make_holed_dome(options);
+    const auto loops = find_boundary_loops(dome.mesh);
+    const BoundaryLoop& edge = loops[loops_through(loops, dome.open_vertices).at(0)];
+    EXPECT_GT(edge.predicted_area, edge.component_area);
+    expect_default_fills_the_holes(dome, rim < 75 ? LoopKind::OuterEdge : LoopKind::TubeEnd);
+  }
+}
+
+// Each piece of surface is judged by its own area: a dome beside a large
+// sheet keeps its rim open although the sheet's area exceeds what the dome's
+// curvature would need to close it.
+TEST(Classify, EachPieceIsJudgedOnItsOwn) {
+  HoledSurface dome = make_holed_dome();
+  SheetSurfaceOptions big;
+  big.size = 6;
+  big.edge_length = 0.1;
+  const HoledSurface sheet = make_sheet_with_long_hole(big);
+  HoledSurface both = dome;
+  const int offset = both.mesh.vertex_count();
+  for (const Vec3& p : sheet.mesh.positions) both.mesh.positions.push_back({p[0] + 5, p[1], p[2]});
+  for (const Tri& f : sheet.mesh.faces) {
+    both.mesh.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  }
+  for (int v : sheet.hole_vertices) both.hole_vertices.push_back(v + offset);
+  for (int v : sheet.open_vertices) both.open_vertices.push_back(v + offset);
+  const auto loops = expect_default_fills_the_holes(both);
+  const BoundaryLoop& rim = loops[loops_through(loops, dome.open_vertices).at(0)];
+  EXPECT_LT(rim.predicted_area, 36.0);
+  EXPECT_GT(rim.predicted_area, rim.component_area);
+}
+
+// A loop the user names is selected whatever its kind: the fill's own checks
+// decide what can be done with it.
+TEST(Selection, NamedOuterEdgeIsSelected) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  ASSERT_EQ(loops[0].kind, LoopKind::OuterEdge);
+  const HoleChoice choice = select_holes(loops, by_ids({0}));
+  EXPECT_EQ(choice.fill, Ids{0});
+  EXPECT_EQ(choice.reasons[0], ChoiceReason::Named);
+  EXPECT_EQ(choice.reasons[1], ChoiceReason::NotNamed);
+  EXPECT_EQ(select_holes(loops, near({-0.5, 2, 0})).fill, Ids{0});
+}
+
+TEST(Selection, EachNearPointPicksItsLoop) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  EXPECT_EQ(select_holes(loops, near({{1.5, 1.5, 0}, {4.5, 3.5, 0}})).fill, Ids({1, 2}));
+  // With ids as well: every loop named.
+  HoleSelection both = near(Vec3{4.5, 3.5, 0});
+  both.ids = {0};
+  EXPECT_EQ(select_holes(loops, both).fill, Ids({0, 2}));
+}
+
+TEST(Selection, NearAPointFarFromEveryLoopIsAnError) {
+  const auto loops = find_boundary_loops(grid(6, {{1, 1}, {4, 3}}));
+  EXPECT_EQ(error_of(ErrorKind::Usage,
+                     [&] {
+                       select_holes(loops, near({{1.5, 1.5, 0}, {3, 3, 20}}), "g.obj");
+                     }),
+            "g.obj: no loop near the point (3, 3, 20): the nearest, loop 2, is 20 away, farther "
+            "than its size (1.41)");
+}
+
+TEST(Selection, FiltersBySizeAndDiameterOnTopOfTheMode) {
+  // Holes of 4, 6 and 8 vertices (one, two and four cells).
+  const auto loops =
+      find_boundary_loops(grid(12, {{1, 1}, {5, 5}, {6, 5}, {8, 8}, {9, 8}, {8, 9}, {9, 9}}));
+  ASSERT_EQ(loops.size(), 4u);
+  HoleSelection small;
+  small.max_hole_size = 6;
+  HoleChoice choice = select_holes(loops, small);
+  EXPECT_EQ(choice.fill, Ids({1, 2}));
+  EXPECT_EQ(choice.reasons[3], ChoiceReason::TooManyEdges);
+  EXPECT_EQ(choice.reasons[0], ChoiceReason::NotAHole);
+  HoleSelection narrow;
+  narrow.max_hole_diameter = 2.5;  // the 2 x 2 hole's diagonal is 2.83
+  choice = select_holes(loops, narrow);
+  EXPECT_EQ(choice.fill, Ids({1, 2}));
+  EXPECT_EQ(choice.reasons[3], ChoiceReason::TooWide);
+  // On named loops too.
+  HoleSelection named = by_ids({1, 3});
+  named.max_hole_size = 6;
+  EXPECT_EQ(select_holes(loops, named).fill, Ids({1}));
+  EXPECT_DOUBLE_EQ(mean_edge_length(grid(2)), (12 + 4 * std::sqrt(2.0)) / 16);
 }
 
 }  // namespace

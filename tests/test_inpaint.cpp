@@ -178,7 +178,7 @@ TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
   // fallback chain the loop stays open with the reason.
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh);
-  const std::vector<int> outer = default_outer_loops(loops);
+  const std::vector<int> outer = longest_loops(loops);
   const FillResult result = fill_holes(cut.cut.mesh, loops, outer, without_fallback());
   ASSERT_EQ(result.report.holes.size(), 1u);
   EXPECT_FALSE(result.report.holes[0].filled);
@@ -192,7 +192,7 @@ TEST(Inpaint, ReportsAHoleThatCannotBeFilledAndLeavesItOpen) {
 TEST(Inpaint, TheFallbackChainClosesWhatTheFabricMethodCannot) {
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh);
-  const int outer = default_outer_loops(loops).at(0);
+  const int outer = longest_loops(loops).at(0);
   const FillResult result = fill_holes(cut.cut.mesh, loops, {outer});
   const HoleReport& hole = result.report.holes.at(0);
   ASSERT_TRUE(hole.filled) << hole.reason;
@@ -387,7 +387,7 @@ TEST(InpaintRefusals, AnOutlineThatCrossesItselfIsRepaired) {
 TEST(InpaintRefusals, AnOuterEdgeIsNotFilled) {
   const CutMesh cut = folded_sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(cut.cut.mesh, "sheet.obj");
-  const int outer = default_outer_loops(loops).at(0);
+  const int outer = longest_loops(loops).at(0);
   const FillResult result =
       fill_holes(cut.cut.mesh, loops, {outer}, without_fallback(), "sheet.obj");
   const HoleReport& hole = result.report.holes.at(0);

@@ -48,11 +48,9 @@ double flat_width(const DevelopableMesh& sheet) {
   return width;
 }
 
-// The loops that turn like holes (the sheet's outer edge does not).
+// The loops the default takes for holes (the sheet's outer edge is not).
 std::vector<int> hole_ids(const std::vector<BoundaryLoop>& loops) {
-  HoleSelection selection;
-  selection.mode = HoleSelection::Mode::Auto;
-  return select_holes(loops, selection).fill;
+  return select_holes(loops, {}).fill;
 }
 
 double distance(const Vec3& a, const Vec3& b) {
