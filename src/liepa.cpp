@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "foldfill/error.h"
+#include "foldfill/marks.h"
 
 namespace foldfill {
 namespace {
@@ -103,6 +104,7 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
       if (f.idx() < index.size() && index[f.idx()] >= 0) patch_faces[h].push_back(index[f.idx()]);
     std::sort(patch_faces[h].begin(), patch_faces[h].end());
   }
+  mark_new_elements(result.mesh, loops, result.report);
   const auto crossings_start = std::chrono::steady_clock::now();
   measure_crossings(result.mesh, patch_faces, obstacles, source, result.report);
   const auto end = std::chrono::steady_clock::now();

@@ -28,6 +28,8 @@ nlohmann::json to_json(const HoleReport& hole) {
   j.update({
       {"patch_vertex_count", hole.patch_vertex_count},
       {"patch_face_count", hole.patch_face_count},
+      {"new_vertices", {hole.new_vertices.first, hole.new_vertices.end}},
+      {"new_faces", {hole.new_faces.first, hole.new_faces.end}},
       {"iterations", hole.iterations},
       {"stop_reason", to_string(hole.stop_reason)},
       {"start", to_string(hole.start)},
