@@ -108,7 +108,10 @@ std::string format_vec(const Vec3& v) {
 }
 
 int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
-  const Mesh mesh = read_mesh(path);
+  std::vector<std::string> read_warnings;
+  const Mesh mesh = read_mesh(path, &read_warnings);
+  for (const std::string& warning : read_warnings)
+    fmt::print(stderr, "foldfill: warning: {}\n", warning);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, path);
   const std::vector<int> outer = default_outer_loops(loops, args.keep_open);
   auto is_outer = [&](int id) { return std::find(outer.begin(), outer.end(), id) != outer.end(); };
@@ -162,8 +165,9 @@ int run_fill(FillArgs args) {
   check_single_paths(input, output, args);
   load_obstacles(args);
   check_single_paths(input, output, args);
-  const Mesh mesh = read_mesh(input);
-  return fill_single(mesh, input, output, args);
+  std::vector<std::string> read_warnings;
+  const Mesh mesh = read_mesh(input, &read_warnings);
+  return fill_single(mesh, input, output, args, {}, read_warnings);
 }
 
 struct RenderArgs {
