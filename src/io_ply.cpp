@@ -240,7 +240,13 @@ std::vector<PlyRole> property_roles(const PlyElement& element, const std::string
     if (property.is_list) {
       warnings.push_back(source + ": PLY " + element.name + " property '" + property.name +
                          "' is a list; it is not carried to the output");
-    } else if (property.name == kHoleProperty && is_integer(property.type) && !has_marks) {
+    } else if (property.name == kHoleProperty) {
+      // Carried, it would clash with the marks the output gets.
+      if (!is_integer(property.type) || has_marks) {
+        warnings.push_back(source + ": PLY " + element.name + " property '" + property.name +
+                           "' is not an integer or is repeated; it is not carried to the output");
+        continue;
+      }
       roles[p] = PlyRole::Hole;
       has_marks = true;
     } else {

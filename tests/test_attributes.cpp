@@ -413,6 +413,22 @@ TEST(PlyAttributesReading, MarksOfAnEarlierFillAreReadAndReplacedByTheNext) {
   EXPECT_EQ(second.mesh.face_hole, std::vector<int>(read.faces.size(), -1));
 }
 
+TEST(PlyAttributesReading, AFoldfillHoleThatCannotBeMarksIsDroppedWithAWarning) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float foldfill_hole\nelement face 1\n"
+      "property list uchar int vertex_indices\nproperty int foldfill_hole\n"
+      "property int foldfill_hole\nend_header\n"
+      "0 0 0 0.5\n1 0 0 1\n0 1 0 2\n3 0 1 2 4 5\n";
+  std::vector<std::string> warnings;
+  const Mesh mesh = parse_mesh(ply, MeshFormat::Ply, "marks.ply", &warnings);
+  EXPECT_EQ(warnings.size(), 2u);
+  EXPECT_TRUE(mesh.vertex_properties.empty());
+  EXPECT_TRUE(mesh.vertex_hole.empty());
+  EXPECT_EQ(mesh.face_hole, std::vector<int>{4});
+  EXPECT_TRUE(mesh.face_properties.empty());
+}
+
 TEST(PlyAttributesReading, LiepasFillIsMarkedToo) {
   const Mesh in = sheet_with_hole();
   const std::vector<BoundaryLoop> loops = find_boundary_loops(in);
