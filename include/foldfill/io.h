@@ -30,8 +30,9 @@ MeshFormat format_from_path(const std::string& path);
 // texture coordinates or normals the file does not have (dropped, -1), PLY
 // list properties other than the face indices, PLY elements other than
 // vertex and face. An integer PLY property `foldfill_hole` (the marks of an
-// earlier fill) is read into Mesh::vertex_hole / face_hole; a fill replaces
-// them with its own.
+// earlier fill) is read into Mesh::vertex_hole / face_hole, a fill replacing
+// them with its own; one that is not an integer, or a second one, is dropped
+// with a warning.
 Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source,
                 std::vector<std::string>* warnings = nullptr);
 
