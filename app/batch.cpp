@@ -167,7 +167,7 @@ FileOutcome outcome_of(const FileFill& fill, const std::string& source) {
     if (reason.compare(0, where.size(), where) != 0) reason = where + reason;
     outcome.reason += (outcome.reason.empty() ? "" : "; ") + reason;
   }
-  outcome.warnings = fill.choice.warnings;
+  outcome.warnings = fill.warnings();
   for (const HoleReport& hole : fill.report.holes) {
     if (!hole.warning.empty()) outcome.warnings.push_back(hole.warning);
   }
@@ -194,8 +194,10 @@ FileOutcome fill_batch_item(const BatchItem& item, const FillArgs& args) {
   FileOutcome outcome;
   try {
     format_from_path(item.output);
-    const Mesh mesh = read_mesh(item.input);
+    std::vector<std::string> read_warnings;
+    const Mesh mesh = read_mesh(item.input, &read_warnings);
     FileFill fill = choose_holes(mesh, item.input, args.selection);
+    fill.read_warnings = std::move(read_warnings);
     fill_and_write(mesh, item.input, item.output, item.flat_dir, args, {}, fill);
     outcome = outcome_of(fill, item.input);
     outcome.report = file_report(fill, item.input, item.output);

@@ -78,11 +78,14 @@ void plan_obstacle_reads(const FillArgs& args, PathPlan& plan);
 
 // One mesh's loops, the choice of those to fill, and the fill's report.
 struct FileFill {
+  std::vector<std::string> read_warnings;  // of reading the mesh (read_mesh)
   std::vector<BoundaryLoop> loops;
   HoleChoice choice;
   FillReport report;
 
   int failed_hole_count() const;
+  // The warnings of reading the mesh, then those of the choice.
+  std::vector<std::string> warnings() const;
 };
 
 using ProgressCallback = std::function<bool(int, const SolverProgress&)>;
@@ -106,10 +109,12 @@ nlohmann::json file_report(const FileFill& fill, const std::string& source,
                            const std::string& output);
 
 // `fill` of one mesh: fills, writes the output and the report (with
-// `extra_report` merged in), prints progress, warnings (not with --quiet) and
-// a summary. Returns the exit code (0, or 9 when a hole could not be filled).
+// `extra_report` merged in), prints progress, warnings (those of reading the
+// mesh first; not with --quiet) and a summary. Returns the exit code (0, or 9
+// when a hole could not be filled).
 int fill_single(const Mesh& mesh, const std::string& source, const std::string& output,
-                const FillArgs& args, const nlohmann::json& extra_report = {});
+                const FillArgs& args, const nlohmann::json& extra_report = {},
+                const std::vector<std::string>& read_warnings = {});
 
 // Where `fill` with one input file writes: `args.output`, or a file named
 // like the input inside it when it is a folder. Throws Error(Usage) when

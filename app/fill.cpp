@@ -220,6 +220,12 @@ int FileFill::failed_hole_count() const {
   return failed;
 }
 
+std::vector<std::string> FileFill::warnings() const {
+  std::vector<std::string> all = read_warnings;
+  all.insert(all.end(), choice.warnings.begin(), choice.warnings.end());
+  return all;
+}
+
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection) {
   FileFill fill;
   fill.loops = find_boundary_loops(mesh, source);
@@ -271,7 +277,7 @@ nlohmann::json file_report(const FileFill& fill, const std::string& source,
   report["output"] = output;
   report["filled_loops"] = fill.choice.fill;
   report["left_open_loops"] = fill.choice.left_open;
-  report["warnings"] = fill.choice.warnings;
+  report["warnings"] = fill.warnings();
   return report;
 }
 
@@ -309,8 +315,11 @@ int run_dry_run(const FillArgs& args) {
 }
 
 int fill_single(const Mesh& mesh, const std::string& source, const std::string& output,
-                const FillArgs& args, const nlohmann::json& extra_report) {
+                const FillArgs& args, const nlohmann::json& extra_report,
+                const std::vector<std::string>& read_warnings) {
+  for (const std::string& warning : read_warnings) print_warning(warning, source, args.quiet);
   FileFill fill = choose_holes(mesh, source, args.selection);
+  fill.read_warnings = read_warnings;
   for (const std::string& warning : fill.choice.warnings) {
     print_warning(warning, source, args.quiet);
   }

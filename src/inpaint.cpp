@@ -19,6 +19,7 @@
 #include "foldfill/domain.h"
 #include "foldfill/error.h"
 #include "foldfill/flatten.h"
+#include "foldfill/marks.h"
 #include "foldfill/metrics.h"
 #include "foldfill/multilevel.h"
 #include "foldfill/smooth_fill.h"
@@ -1183,6 +1184,7 @@ FillResult fill_holes(Mesh&& mesh, const std::vector<BoundaryLoop>& loops,
   stitch_all(patches, mesh);
   report.seconds_stitch = seconds_since(stitch_start);
   for (HolePatch& patch : patches) report.holes.push_back(std::move(patch.report));
+  mark_new_elements(mesh, loops, report);
   const auto crossings_start = Clock::now();
   measure_crossings(mesh, patch_faces, options.obstacles, source, report);
   report.seconds_crossings = seconds_since(crossings_start);

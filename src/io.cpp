@@ -148,12 +148,46 @@ void validate_face_attributes(const Mesh& mesh, const std::vector<Tri>& face_att
   }
 }
 
+// Throws Error(Internal) unless `values` has `count` entries (or none, with
+// `may_be_empty`): the per-element data that comes with a mesh, which a fill
+// extends over what it appends (foldfill/marks.h).
+template <class T>
+void require_per_element(const std::vector<T>& values, size_t count, bool may_be_empty,
+                         const std::string& what, const std::string& source) {
+  if (values.size() != count && !(may_be_empty && values.empty())) {
+    fail(ErrorKind::Internal, source,
+         what + " has " + std::to_string(values.size()) + " entries for " + std::to_string(count) +
+             " elements");
+  }
+}
+
+void validate_extras(const Mesh& mesh, const std::string& source) {
+  for (const ScalarProperty& property : mesh.vertex_properties)
+    require_per_element(property.values, mesh.positions.size(), false,
+                        "vertex property '" + property.name + "'", source);
+  for (const ScalarProperty& property : mesh.face_properties)
+    require_per_element(property.values, mesh.faces.size(), false,
+                        "face property '" + property.name + "'", source);
+  require_per_element(mesh.vertex_hole, mesh.positions.size(), true, "vertex_hole", source);
+  require_per_element(mesh.face_hole, mesh.faces.size(), true, "face_hole", source);
+  int previous = 0;
+  for (const ObjStatement& statement : mesh.obj_statements) {
+    if (statement.before_face < previous || statement.before_face > mesh.face_count()) {
+      fail(ErrorKind::Internal, source,
+           "OBJ statement '" + statement.text + "' before face " +
+               std::to_string(statement.before_face) + " is out of order");
+    }
+    previous = statement.before_face;
+  }
+}
+
 void validate(const Mesh& mesh, const std::string& source, const Locations& where) {
   validate_positions(mesh, source, where);
   validate_faces(mesh, source, where);
   validate_face_attributes(mesh, mesh.face_texcoords, mesh.texcoords.size(), "texture coordinate",
                            source, where);
   validate_face_attributes(mesh, mesh.face_normals, mesh.normals.size(), "normal", source, where);
+  validate_extras(mesh, source);
 }
 
 }  // namespace
@@ -216,7 +250,8 @@ MeshFormat format_from_path(const std::string& path) {
   fail(ErrorKind::Usage, path, "unknown mesh format (expected .obj, .ply, .off or .stl)");
 }
 
-Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source) {
+Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source,
+                std::vector<std::string>* warnings) {
   const std::string_view content = io_detail::starts_with(bytes, io_detail::kUtf8ByteOrderMark)
                                        ? bytes.substr(io_detail::kUtf8ByteOrderMark.size())
                                        : bytes;
@@ -226,12 +261,15 @@ Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& so
   ParsedMesh parsed = parse_format(bytes, format, source);
   if (parsed.mesh.faces.empty()) fail(ErrorKind::BadFormat, source, "no faces");
   io_detail::validate_parsed(parsed, source);
+  if (warnings) {
+    warnings->insert(warnings->end(), parsed.warnings.begin(), parsed.warnings.end());
+  }
   return std::move(parsed.mesh);
 }
 
-Mesh read_mesh(const std::string& path) {
+Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   const MeshFormat format = format_from_path(path);
-  return parse_mesh(read_file(path), format, path);
+  return parse_mesh(read_file(path), format, path, warnings);
 }
 
 // The file is written in chunks as it is produced: a 2M-triangle mesh's

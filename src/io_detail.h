@@ -58,9 +58,10 @@ inline std::string count_of(long long count, const char* one, const char* many) 
 // A parsed mesh with what the validation needs to point at a culprit.
 struct ParsedMesh {
   Mesh mesh;
-  std::vector<int> vertex_lines;  // line of each vertex in a text file, or empty
-  std::vector<int> face_lines;    // line of each face in a text file, or empty
-  bool obj_indices = false;       // messages add the file's own 1-based index (OBJ)
+  std::vector<int> vertex_lines;      // line of each vertex in a text file, or empty
+  std::vector<int> face_lines;        // line of each face in a text file, or empty
+  bool obj_indices = false;           // messages add the file's own 1-based index (OBJ)
+  std::vector<std::string> warnings;  // "SOURCE: what was dropped or mended"
 };
 
 // Checks finite coordinates, face (and OBJ attribute) indices in range and

@@ -1,13 +1,23 @@
 // Stanford PLY: ascii, binary_little_endian and binary_big_endian. Reads x, y, z
 // of the `vertex` element and the `vertex_indices` (or `vertex_index`) list of
-// the `face` element; every other property and element is skipped.
+// the `face` element, and carries the other scalar properties of both into
+// the mesh (Mesh::vertex_properties, face_properties); list properties other
+// than the indices and the other elements are skipped with a warning.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "io_detail.h"
 
 namespace foldfill::io_detail {
 namespace {
 
-enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+using PlyType = ScalarType;
 
+// The marks of new elements (Mesh::vertex_hole, face_hole) in a PLY file.
+constexpr std::string_view kHoleProperty = "foldfill_hole";
+
+// The names of each type, the one written first.
 struct PlyTypeName {
   std::string_view name;
   PlyType type;
@@ -41,6 +51,13 @@ size_t type_size(PlyType type) {
 
 bool is_integer(PlyType type) { return type != PlyType::Float32 && type != PlyType::Float64; }
 
+std::string_view type_name(PlyType type) {
+  for (const PlyTypeName& entry : kPlyTypeNames) {
+    if (entry.type == type) return entry.name;
+  }
+  return "double";
+}
+
 struct PlyProperty {
   std::string name;
   PlyType type;  // of the value, or of the items of a list
@@ -62,7 +79,7 @@ struct PlyHeader {
 };
 
 // What the reader does with the values of one property.
-enum class PlyRole { X, Y, Z, FaceIndices, Skip };
+enum class PlyRole { X, Y, Z, FaceIndices, Carry, Hole, Skip };
 
 PlyType parse_type(const TextCursor& cursor, std::string_view name) {
   for (const PlyTypeName& entry : kPlyTypeNames) {
@@ -199,11 +216,43 @@ void assign_face_role(const PlyElement& element, std::vector<PlyRole>& roles,
 }
 
 // The role of each property of `element`; checks that the vertex and face
-// elements have what we need.
-std::vector<PlyRole> property_roles(const PlyElement& element, const std::string& source) {
+// elements have what we need. The other scalars of vertices and faces are
+// carried, an integer `foldfill_hole` as the marks; what is skipped gets a
+// warning in `warnings`.
+std::vector<PlyRole> property_roles(const PlyElement& element, const std::string& source,
+                                    std::vector<std::string>& warnings) {
   std::vector<PlyRole> roles(element.properties.size(), PlyRole::Skip);
-  if (element.name == "vertex") assign_coordinate_roles(element, roles, source);
-  if (element.name == "face") assign_face_role(element, roles, source);
+  const bool is_vertex = element.name == "vertex";
+  const bool is_face = element.name == "face";
+  if (is_vertex) assign_coordinate_roles(element, roles, source);
+  if (is_face) assign_face_role(element, roles, source);
+  if (!is_vertex && !is_face) {
+    if (element.count > 0 && !element.properties.empty()) {
+      warnings.push_back(source + ": PLY element '" + element.name +
+                         "' is not carried to the output");
+    }
+    return roles;
+  }
+  bool has_marks = false;
+  for (size_t p = 0; p < roles.size(); ++p) {
+    const PlyProperty& property = element.properties[p];
+    if (roles[p] != PlyRole::Skip) continue;
+    if (property.is_list) {
+      warnings.push_back(source + ": PLY " + element.name + " property '" + property.name +
+                         "' is a list; it is not carried to the output");
+    } else if (property.name == kHoleProperty) {
+      // Carried, it would clash with the marks the output gets.
+      if (!is_integer(property.type) || has_marks) {
+        warnings.push_back(source + ": PLY " + element.name + " property '" + property.name +
+                           "' is not an integer or is repeated; it is not carried to the output");
+        continue;
+      }
+      roles[p] = PlyRole::Hole;
+      has_marks = true;
+    } else {
+      roles[p] = PlyRole::Carry;
+    }
+  }
   return roles;
 }
 
@@ -222,7 +271,12 @@ class AsciiPlyInput {
   AsciiPlyInput(std::string_view body, const std::string& source, int first_line)
       : cursor_(body, source, TextCursor::Separator::Lines, first_line) {}
 
-  double number(PlyType) { return cursor_.next_number<double>(); }
+  // A float property's value is the float nearest to its text, as in a
+  // binary file.
+  double number(PlyType type) {
+    if (type == PlyType::Float32) return cursor_.next_number<float>();
+    return cursor_.next_number<double>();
+  }
   long long integer(PlyType) { return cursor_.next_number<long long>(); }
   void skip(PlyType, long long count) {
     for (long long i = 0; i < count; ++i) cursor_.next_number<double>();
@@ -321,9 +375,10 @@ long long read_list_length(Input& input, const PlyProperty& property) {
   return length;
 }
 
+// Reads a polygon and appends its fan; returns the number of triangles.
 template <class Input>
-void read_polygon(Input& input, const PlyProperty& property, std::vector<int>& corners,
-                  ParsedMesh& parsed) {
+size_t read_polygon(Input& input, const PlyProperty& property, std::vector<int>& corners,
+                    ParsedMesh& parsed) {
   const long long corner_count = input.integer(property.count_type);
   require_polygon(input, corner_count);
   corners.clear();
@@ -338,6 +393,29 @@ void read_polygon(Input& input, const PlyProperty& property, std::vector<int>& c
   if (Input::kHasLines) {
     parsed.face_lines.insert(parsed.face_lines.end(), corners.size() - 2, input.line());
   }
+  return corners.size() - 2;
+}
+
+// Where the carried properties of `element` go: the mesh's vertex or face
+// properties, or nowhere (nullptr) for another element.
+std::vector<ScalarProperty>* carried_of(const PlyElement& element, Mesh& mesh) {
+  if (element.name == "vertex") return &mesh.vertex_properties;
+  if (element.name == "face") return &mesh.face_properties;
+  return nullptr;
+}
+
+// Appends the properties of `element` that are carried to `carried`; returns
+// each property's position among them (or -1).
+std::vector<int> carried_properties(const PlyElement& element, const std::vector<PlyRole>& roles,
+                                    std::vector<ScalarProperty>& carried) {
+  std::vector<int> slot(roles.size(), -1);
+  for (size_t p = 0; p < roles.size(); ++p) {
+    if (roles[p] != PlyRole::Carry) continue;
+    slot[p] = static_cast<int>(carried.size());
+    carried.push_back({element.properties[p].name, element.properties[p].type, {}});
+    carried.back().values.reserve(static_cast<size_t>(element.count));
+  }
+  return slot;
 }
 
 template <class Input>
@@ -347,9 +425,19 @@ void read_element(Input& input, const PlyElement& element, const std::vector<Ply
   input.require_items(element);
   const bool is_vertex = element.name == "vertex";
   if (is_vertex) parsed.mesh.positions.reserve(static_cast<size_t>(element.count));
+  std::vector<ScalarProperty> none;  // an element whose properties are not carried
+  std::vector<ScalarProperty>* target = carried_of(element, parsed.mesh);
+  std::vector<ScalarProperty>& carried = target ? *target : none;
+  const std::vector<int> slot = carried_properties(element, roles, carried);
+  std::vector<int>* marks = nullptr;
+  if (std::find(roles.begin(), roles.end(), PlyRole::Hole) != roles.end())
+    marks = is_vertex ? &parsed.mesh.vertex_hole : &parsed.mesh.face_hole;
   std::vector<int> corners;
+  std::vector<double> values(carried.size());  // of the item's carried properties
   for (long long item = 0; item < element.count; ++item) {
     Vec3 position{};
+    size_t triangles = 1;  // the mesh elements the item becomes
+    long long hole = -1;   // its mark
     for (size_t p = 0; p < roles.size(); ++p) {
       const PlyProperty& property = element.properties[p];
       switch (roles[p]) {
@@ -360,18 +448,43 @@ void read_element(Input& input, const PlyElement& element, const std::vector<Ply
               input.number(property.type);
           break;
         case PlyRole::FaceIndices:
-          read_polygon(input, property, corners, parsed);
+          triangles = read_polygon(input, property, corners, parsed);
+          break;
+        case PlyRole::Carry:
+          values[static_cast<size_t>(slot[p])] = input.number(property.type);
+          break;
+        case PlyRole::Hole:
+          hole = input.integer(property.type);
+          if (hole < -1 || hole > INT_MAX) {
+            input.fail(ErrorKind::BadFormat,
+                       "PLY foldfill_hole " + std::to_string(hole) + " is not -1 or a loop id");
+          }
           break;
         case PlyRole::Skip:
           input.skip(property.type, property.is_list ? read_list_length(input, property) : 1);
           break;
       }
     }
+    // Every triangle of a polygon's fan has the polygon's values.
+    for (size_t k = 0; k < values.size(); ++k)
+      carried[k].values.insert(carried[k].values.end(), triangles, values[k]);
+    if (marks) marks->insert(marks->end(), triangles, static_cast<int>(hole));
     if (is_vertex) {
       parsed.mesh.positions.push_back(position);
       if (Input::kHasLines) parsed.vertex_lines.push_back(input.line());
     }
   }
+}
+
+// Float32 when x, y and z are all float, else Float64 (integer coordinates
+// are written as doubles, which hold them and the new vertices' exactly).
+PlyType coordinate_type(const PlyElement& vertex) {
+  for (const PlyProperty& property : vertex.properties) {
+    if ((property.name == "x" || property.name == "y" || property.name == "z") &&
+        property.type != PlyType::Float32)
+      return PlyType::Float64;
+  }
+  return PlyType::Float32;
 }
 
 // Reads every element, then refuses data after the last one that has any:
@@ -382,11 +495,72 @@ ParsedMesh read_body(Input input, const PlyHeader& header, const std::string& so
   ParsedMesh parsed;
   const PlyElement* last = nullptr;
   for (const PlyElement& element : header.elements) {
-    read_element(input, element, property_roles(element, source), parsed);
+    read_element(input, element, property_roles(element, source, parsed.warnings), parsed);
+    if (element.name == "vertex") parsed.mesh.coordinate_type = coordinate_type(element);
     if (!element.properties.empty()) last = &element;
   }
   if (last) input.require_end(*last);
   return parsed;
+}
+
+// `value` in `type`: integers rounded to the nearest and clamped to the
+// type's range (NaN becomes 0), float rounded to the nearest float.
+template <class T>
+T to_scalar(double value) {
+  if constexpr (std::is_integral_v<T>) {
+    if (std::isnan(value)) return T{0};
+    const double rounded = std::round(value);
+    if (rounded <= static_cast<double>(std::numeric_limits<T>::min()))
+      return std::numeric_limits<T>::min();
+    if (rounded >= static_cast<double>(std::numeric_limits<T>::max()))
+      return std::numeric_limits<T>::max();
+    return static_cast<T>(rounded);
+  } else {
+    return static_cast<T>(value);
+  }
+}
+
+template <class T>
+void append_as(std::string& out, double value, bool binary) {
+  const T scalar = to_scalar<T>(value);
+  if (binary) {
+    append_little_endian(out, scalar);
+  } else if constexpr (sizeof(T) == 1) {
+    append_number(out, static_cast<int>(scalar));  // a number, not a character
+  } else {
+    append_number(out, scalar);
+  }
+}
+
+// Appends `value` as a `type` value: binary, or as the shortest text that
+// reads back as it.
+void append_scalar(std::string& out, PlyType type, double value, bool binary) {
+  switch (type) {
+    case PlyType::Int8:
+      return append_as<int8_t>(out, value, binary);
+    case PlyType::UInt8:
+      return append_as<uint8_t>(out, value, binary);
+    case PlyType::Int16:
+      return append_as<int16_t>(out, value, binary);
+    case PlyType::UInt16:
+      return append_as<uint16_t>(out, value, binary);
+    case PlyType::Int32:
+      return append_as<int32_t>(out, value, binary);
+    case PlyType::UInt32:
+      return append_as<uint32_t>(out, value, binary);
+    case PlyType::Float32:
+      return append_as<float>(out, value, binary);
+    case PlyType::Float64:
+      return append_as<double>(out, value, binary);
+  }
+}
+
+void append_property(std::string& out, PlyType type, std::string_view name) {
+  out += "property ";
+  out += type_name(type);
+  out += ' ';
+  out += name;
+  out += '\n';
 }
 
 void append_header(std::string& out, const Mesh& mesh, bool binary) {
@@ -394,9 +568,33 @@ void append_header(std::string& out, const Mesh& mesh, bool binary) {
   out += binary ? "binary_little_endian" : "ascii";
   out += " 1.0\ncomment written by foldfill\nelement vertex ";
   append_number(out, mesh.positions.size());
-  out += "\nproperty double x\nproperty double y\nproperty double z\nelement face ";
+  out += '\n';
+  for (const char* axis : {"x", "y", "z"}) append_property(out, mesh.coordinate_type, axis);
+  for (const ScalarProperty& property : mesh.vertex_properties)
+    append_property(out, property.type, property.name);
+  if (!mesh.vertex_hole.empty()) append_property(out, PlyType::Int32, kHoleProperty);
+  out += "element face ";
   append_number(out, mesh.faces.size());
-  out += "\nproperty list uchar int vertex_indices\nend_header\n";
+  out += "\nproperty list uchar int vertex_indices\n";
+  for (const ScalarProperty& property : mesh.face_properties)
+    append_property(out, property.type, property.name);
+  if (!mesh.face_hole.empty()) append_property(out, PlyType::Int32, kHoleProperty);
+  out += "end_header\n";
+}
+
+// The bytes of one vertex or face after its geometry: its carried
+// properties, then its mark.
+void append_extras(std::string& out, const std::vector<ScalarProperty>& properties,
+                   const std::vector<int>& hole, size_t element, bool binary) {
+  for (const ScalarProperty& property : properties) {
+    if (!binary) out += ' ';
+    append_scalar(out, property.type, property.values[element], binary);
+  }
+  if (!hole.empty()) {
+    if (!binary) out += ' ';
+    append_scalar(out, PlyType::Int32, hole[element], binary);
+  }
+  if (!binary) out += '\n';
 }
 
 }  // namespace
@@ -414,28 +612,37 @@ ParsedMesh parse_ply(std::string_view bytes, const std::string& source) {
   return read_body(BinaryPlyInput(cursor.rest(), source, little_endian), header, source);
 }
 
-// Positions as doubles so that they read back bit for bit.
+// Positions in the input's coordinate type (doubles by default), so that
+// the original vertices read back bit for bit.
 void serialize_ply(const Mesh& mesh, bool binary, ByteSink& sink) {
   std::string& out = sink.bytes();
-  sink.expect(256 + mesh.positions.size() * (binary ? 24 : 64) +
-              mesh.faces.size() * (binary ? 13 : 32));
+  const size_t vertex_bytes = (mesh.coordinate_type == PlyType::Float32 ? 12 : 24) +
+                              mesh.vertex_properties.size() * 8 +
+                              (mesh.vertex_hole.empty() ? 0 : 4);
+  const size_t face_bytes = 13 + mesh.face_properties.size() * 8 + (mesh.face_hole.empty() ? 0 : 4);
+  sink.expect(256 + mesh.positions.size() * (binary ? vertex_bytes : 3 * vertex_bytes) +
+              mesh.faces.size() * (binary ? face_bytes : 3 * face_bytes));
   append_header(out, mesh, binary);
-  for (const Vec3& p : mesh.positions) {
-    if (binary) {
-      for (double coordinate : p) append_little_endian(out, coordinate);
-    } else {
-      append_numbers_line(out, p);
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      if (!binary && k > 0) out += ' ';
+      append_scalar(out, mesh.coordinate_type, mesh.positions[v][k], binary);
     }
+    append_extras(out, mesh.vertex_properties, mesh.vertex_hole, v, binary);
     sink.record_done();
   }
-  for (const Tri& face : mesh.faces) {
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
     if (binary) {
       append_little_endian(out, uint8_t{3});
-      for (int v : face) append_little_endian(out, int32_t{v});
+      for (int v : mesh.faces[f]) append_little_endian(out, int32_t{v});
     } else {
-      out += "3 ";
-      append_numbers_line(out, face);
+      out += '3';
+      for (int v : mesh.faces[f]) {
+        out += ' ';
+        append_number(out, v);
+      }
     }
+    append_extras(out, mesh.face_properties, mesh.face_hole, f, binary);
     sink.record_done();
   }
 }

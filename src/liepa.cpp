@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "foldfill/error.h"
+#include "foldfill/marks.h"
 #include "triangle_geometry.h"
 
 namespace foldfill {
@@ -113,6 +114,7 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
     }
     result.report.holes[h].patch_min_angle_deg = smallest;
   }
+  mark_new_elements(result.mesh, loops, result.report);
   const auto crossings_start = std::chrono::steady_clock::now();
   measure_crossings(result.mesh, patch_faces, obstacles, source, result.report);
   const auto end = std::chrono::steady_clock::now();

@@ -30,6 +30,8 @@ nlohmann::json to_json(const HoleReport& hole) {
       {"patch_vertex_count", hole.patch_vertex_count},
       {"patch_face_count", hole.patch_face_count},
       {"patch_min_angle_deg", hole.patch_min_angle_deg},
+      {"new_vertices", {hole.new_vertices.first, hole.new_vertices.end}},
+      {"new_faces", {hole.new_faces.first, hole.new_faces.end}},
       {"crossings",
        {{"patch_patch", hole.crossings.patch_patch},
         {"patch_mesh", hole.crossings.patch_mesh},

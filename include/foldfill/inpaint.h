@@ -115,6 +115,12 @@ enum class StartKind {
 // "arap", "coarse_levels", "towards_membrane", "unguarded".
 const char* to_string(StartKind start);
 
+// The indices [first, end) of a run of vertices or faces.
+struct IndexRange {
+  int first = 0, end = 0;
+  int size() const { return end - first; }
+};
+
 struct HoleReport {
   int loop_id = 0;
   bool filled = false;
@@ -126,6 +132,9 @@ struct HoleReport {
   int loop_vertex_count = 0;
   int patch_vertex_count = 0;  // new (interior) vertices
   int patch_face_count = 0;
+  // Where the new vertices and faces are in the output (mark_new_elements,
+  // foldfill/marks.h); empty when the hole was not filled.
+  IndexRange new_vertices, new_faces;
   int iterations = 0;  // of the minimisation of the patch (not of its coarser levels)
   StopReason stop_reason = StopReason::Converged;
   StartKind start = StartKind::Arap;
@@ -174,6 +183,9 @@ struct FillReport {
   double seconds_total = 0;
 };
 
+// The output's new elements are marked (Mesh::vertex_hole, face_hole), the
+// carried per-element data has values for them and each filled hole's report
+// says where they are (see mark_new_elements).
 struct FillResult {
   Mesh mesh;  // the input with new vertices and faces appended
   FillReport report;

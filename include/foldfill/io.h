@@ -3,6 +3,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "foldfill/mesh.h"
 
@@ -20,20 +21,40 @@ MeshFormat format_from_path(const std::string& path);
 // counts in headers must match the data. Validates the result (finite
 // coordinates, face indices in range, three distinct vertices per face) and
 // throws a typed Error otherwise; messages count vertices and faces from 0.
-Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source);
+//
+// Besides the geometry it keeps what a writer can give back (see Mesh): OBJ
+// texture coordinates, normals and the `mtllib`, `o`, `g`, `usemtl`, `s`
+// statements; PLY scalar properties of vertices and faces and the type of
+// the coordinates. What is dropped or mended on the way is said in
+// `warnings`, one line "SOURCE: what" each (when given): OBJ references to
+// texture coordinates or normals the file does not have (dropped, -1), PLY
+// list properties other than the face indices, PLY elements other than
+// vertex and face. An integer PLY property `foldfill_hole` (the marks of an
+// earlier fill) is read into Mesh::vertex_hole / face_hole, a fill replacing
+// them with its own; one that is not an integer, or a second one, is dropped
+// with a warning.
+Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source,
+                std::vector<std::string>* warnings = nullptr);
 
 // Reads `path` (format from its extension). Throws Error(CannotRead) if it
 // cannot be opened, otherwise as parse_mesh.
-Mesh read_mesh(const std::string& path);
+Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 struct WriteOptions {
   bool binary = true;  // PLY and STL: binary (PLY little endian) or ASCII
 };
 
 // Writes `mesh` to `path` in the format of its extension. Positions are written
-// with round-trip precision (PLY as doubles; STL is a float32 format). The file
-// is written to a temporary name beside `path` and renamed into place, so a
-// failure leaves no partial file. Throws Error(CannotWrite).
+// with round-trip precision (PLY in mesh.coordinate_type; STL is a float32
+// format). What the format can hold of the rest is written too:
+//  - OBJ: texture coordinates and normals of the faces that have them on all
+//    corners, the statements of obj_statements before the faces they came
+//    before, and each run of new faces under `g foldfill_hole_<loop id>`;
+//  - PLY: the vertex and face properties in their own types, then, when the
+//    mesh has marks, an `int foldfill_hole` property on vertices and faces;
+//  - OFF and STL: positions and faces only.
+// The file is written to a temporary name beside `path` and renamed into
+// place, so a failure leaves no partial file. Throws Error(CannotWrite).
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
 
 // Same as write_mesh but to a string (used by tests and fuzzers).
