@@ -126,15 +126,11 @@ nlohmann::json finite_or_null(double value) {
 }
 
 int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
-<<<<<<< HEAD
   args.check();
-  const Mesh mesh = read_mesh(path);
-=======
   std::vector<std::string> read_warnings;
   const Mesh mesh = read_mesh(path, &read_warnings);
   for (const std::string& warning : read_warnings)
     fmt::print(stderr, "foldfill: warning: {}\n", warning);
->>>>>>> io19
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, path);
   const HoleChoice choice = select_holes(loops, args.selection(mesh), path);
   auto is_outer = [&](int id) {
