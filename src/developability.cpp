@@ -44,14 +44,14 @@ bool is_interior(const Mesh& mesh, const VertexFaces& vertex_faces, int v) {
 
 Developability measure_developability(const Mesh& mesh, const VertexFaces& vertex_faces,
                                       const BoundaryLoop& loop) {
-  std::vector<char> on_loop(mesh.vertex_count(), 0);
-  for (int v : loop.vertices) on_loop[v] = 1;
+  std::vector<int> on_loop = loop.vertices;
+  std::sort(on_loop.begin(), on_loop.end());
   // The strip's outer ring: the loop vertices' neighbours off the loop.
   std::vector<int> ring;
   for (int v : loop.vertices)
     for (int k = vertex_faces.start[v]; k < vertex_faces.start[v + 1]; ++k)
       for (int w : mesh.faces[vertex_faces.faces[k]])
-        if (!on_loop[w]) ring.push_back(w);
+        if (!std::binary_search(on_loop.begin(), on_loop.end(), w)) ring.push_back(w);
   std::sort(ring.begin(), ring.end());
   ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
 

@@ -686,8 +686,19 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
 
 // The fabric method, from the LSCM flattening or, where that fails, a
 // repaired one.
+// Thrown by fill_fabric, when told to, where no start that crosses nothing
+// was found: the chain tries the other steps before it minimises without the
+// guarantee.
+struct NoCleanStart : Error {
+  explicit NoCleanStart(const std::string& where)
+      : Error(ErrorKind::FillFailed,
+              where +
+                  ": no start that crosses nothing was found (the ARAP start and the "
+                  "membrane both cross something)") {}
+};
+
 HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
-                      const Surroundings& around, HolePatch&& result) {
+                      const Surroundings& around, HolePatch&& result, bool minimise_unguarded) {
   const FillOptions& options = context.options;
   HoleReport& report = result.report;
   const auto start = Clock::now();
@@ -732,6 +743,7 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   throw_if_cancelled(context, where);
   stage = Clock::now();
   const bool guarded = initial.kind != StartKind::Unguarded;
+  if (!guarded && !minimise_unguarded) throw NoCleanStart(where);
   const SolverResult solved =
       initial.kind == StartKind::CoarseLevels
           ? minimise(energy, &contact, initial.positions, solver, budget)
@@ -913,8 +925,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   } else {
     const Developability surroundings =
         measure_developability(context.mesh, context.vertex_faces, loop);
-    if (surroundings.ratio > fallback.max_developability_ratio &&
-        surroundings.predicted_curvature > fallback.min_predicted_curvature) {
+    if (surroundings.ratio > fallback.max_developability_ratio) {
       char why[160];
       std::snprintf(why, sizeof why,
                     "the surroundings are not developable (Gaussian / squared mean curvature "
@@ -929,13 +940,15 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   // The first patch that crosses something, kept in case no later step's
   // patch crosses nothing.
   std::optional<HolePatch> crossing;
+  // Set when the fabric method found no start that crosses nothing.
+  bool fabric_deferred = false;
   for (size_t k = 0; k < steps.size(); ++k) {
     throw_if_cancelled(context, where);
     const bool last = k + 1 == steps.size();
     HolePatch patch = blank;
     try {
       if (steps[k] == FillMethod::Fabric) {
-        patch = fill_fabric(context, loop, around, std::move(patch));
+        patch = fill_fabric(context, loop, around, std::move(patch), !fallback.enabled);
         // Its triangles are those of a quality flat triangulation, strained
         // by the cloth: only a degenerate one counts.
         if (fallback.enabled)
@@ -972,6 +985,11 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
       }
       patch.report.fallback_reasons = reasons;
       return patch;
+    } catch (const NoCleanStart& e) {
+      fabric_deferred = true;
+      reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
+                     patch.report.fallback_reasons.end());
+      passed(patch.report.method, e.what());
     } catch (const Error& e) {
       throw_if_cancelled(context, where);
       // Options that make no sense are the caller's to fix, not the hole's.
@@ -982,6 +1000,19 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
       passed(
           patch.report.method == FillMethod::FabricRepaired ? FillMethod::FabricRepaired : steps[k],
           e.what());
+    }
+  }
+  // No patch crosses nothing. The one of the first step that gave one is
+  // kept (its crossings are in the report): the fabric method without the
+  // guarantee, where it came before the patches that cross.
+  if (fabric_deferred && (!crossing || steps.front() == FillMethod::Fabric)) {
+    try {
+      HolePatch patch = fill_fabric(context, loop, around, HolePatch(blank), true);
+      patch.report.fallback_reasons.clear();
+      crossing = std::move(patch);
+    } catch (const Error& e) {
+      throw_if_cancelled(context, where);
+      passed(FillMethod::Fabric, e.what());
     }
   }
   if (crossing) {

@@ -47,12 +47,11 @@ struct FallbackOptions {
   // false: a hole the fabric method cannot fill stays open with its reason.
   bool enabled = true;
   // Where the surroundings are far from developable (a dome, a curved
-  // statue: Developability::ratio above this; 1 on a sphere, 0 on cloth
-  // however it folds) and the curvature they predict for the missing piece
-  // is above min_predicted_curvature (radians), the hole is filled smooth,
-  // not flattened: there is no flat piece of cloth to put back.
+  // statue, however small the hole: Developability::ratio above this; 1 on
+  // a sphere, 0 on cloth however it folds, under 0.05 on every simulated
+  // cloth case) the hole is filled smooth, not flattened: there is no flat
+  // piece of cloth to put back.
   double max_developability_ratio = 0.25;
-  double min_predicted_curvature = M_PI / 36;
   // A smooth patch with a triangle angle below this (degrees) is passed to
   // the next step of the chain (the last step keeps it unless it has zero
   // area); a fabric patch only when it has a face of zero area.
