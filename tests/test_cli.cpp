@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "foldfill/examples.h"
+#include "foldfill/holes.h"
 #include "foldfill/io.h"
 #include "test_support.h"
 
@@ -1143,6 +1144,22 @@ TEST_F(CliTest, HolesPrintsEachLoopsKindAndWhy) {
     EXPECT_NE(loop["explanation"].get<std::string>().find("like the end of a tube"),
               std::string::npos);
     EXPECT_TRUE(loop["outer"].get<bool>());
+  }
+}
+
+// The six reference inputs with the default selection: each file's one hole
+// (the loop of cases.json) filled, every outer edge left open, exit 0.
+TEST_F(CliTest, BatchOverTheReferenceFolderFillsSix) {
+  FOLDFILL_REQUIRE_SHARED();
+  const fs::path in = foldfill::testing::shared_dir() / "data" / "reference";
+  const fs::path out = dir_ / "out";
+  const CliRun run = run_cli("fill " + in.string() + " -o " + out.string() + " -j 2", dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("6 filled, 0 unchanged, 0 failed"), std::string::npos) << run.out;
+  for (const char* name : {"contour_hole.obj", "curtain_hole.obj", "paper1_hole.obj",
+                           "paper2_hole.obj", "sim1_hole.obj", "sim2_hole.obj"}) {
+    const Mesh before = read_mesh((in / name).string()), after = read_mesh((out / name).string());
+    EXPECT_EQ(find_boundary_loops(after).size() + 1, find_boundary_loops(before).size()) << name;
   }
 }
 
