@@ -111,5 +111,37 @@ TEST(EveryHole, OutlineThatDoublesBackOnItself) {
   EXPECT_EQ(methods.count(FillMethod::Fabric), 0u) << "its LSCM outline overlaps itself";
 }
 
+// A rectangular hole in a flat grid: its sides are rows of collinear boundary
+// vertices, which a minimal-area triangulation could join into triangles of
+// zero area. Both the default (fabric) and the smooth fill close it with no
+// sliver.
+TEST(EveryHole, RectangularHoleWithCollinearSides) {
+  Mesh grid;
+  const int n = 21;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) grid.positions.push_back({i * 0.1, j * 0.1, 0.0});
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      if (i >= 5 && i < 11 && j >= 8 && j < 11) continue;
+      const int a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+      grid.faces.push_back({a, b, c});
+      grid.faces.push_back({a, c, d});
+    }
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(grid);
+  ASSERT_EQ(loops.size(), 2u);
+  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
+  FillOptions smooth_first;
+  smooth_first.fallback.max_developability_ratio = -1;
+  for (const bool smooth : {false, true}) {
+    const FillResult result =
+        fill_holes(grid, loops, {hole}, smooth ? smooth_first : FillOptions{});
+    const HoleReport& report = result.report.holes.at(0);
+    ASSERT_TRUE(report.filled) << report.reason;
+    EXPECT_EQ(report.method, smooth ? FillMethod::Smooth : FillMethod::Fabric);
+    EXPECT_GE(report.patch_min_angle_deg, 20);
+    EXPECT_EQ(find_boundary_loops(result.mesh).size(), 1u);
+  }
+}
+
 }  // namespace
 }  // namespace foldfill
