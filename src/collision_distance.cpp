@@ -5,16 +5,10 @@
 #include <limits>
 
 #include "foldfill/collision.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 scaled(const Vec3& a, double s) { return {s * a[0], s * a[1], s * a[2]}; }
 
 // Below this squared sine of the angle between two edge vectors, their cross
 // product is too inaccurate to give a normal (a relative error of about

@@ -1009,6 +1009,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
     try {
       HolePatch patch = fill_fabric(context, loop, around, HolePatch(blank), true);
       patch.report.fallback_reasons.clear();
+      patch.report.patch_min_angle_deg = patch_min_angle(context.mesh, patch);
       crossing = std::move(patch);
     } catch (const Error& e) {
       throw_if_cancelled(context, where);

@@ -5,18 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "foldfill/vec3.h"
+
 namespace foldfill::geometry {
 namespace {
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 add_scaled(const Vec3& a, const Vec3& d, double s) {
-  return {a[0] + s * d[0], a[1] + s * d[1], a[2] + s * d[2]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double distance(const Vec3& a, const Vec3& b) {
-  const Vec3 d = sub(a, b);
-  return std::sqrt(dot(d, d));
-}
 
 // The point of segment [a, b] nearest to p.
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
