@@ -607,8 +607,7 @@ TEST_F(CliTest, RenderOutputEqualToAnInputIsRefused) {
 
 // A fill that takes minutes (gradient descent on about 4,000 patch vertices)
 // but for its time limit.
-const char* const kSlowFill =
-    " --solver gd --density 2 --max-iterations 1000000 --time-limit 30";
+const char* const kSlowFill = " --solver gd --density 2 --max-iterations 1000000 --time-limit 30";
 
 TEST_F(CliTest, SignalDuringTheFillExits130AndWritesNothing) {
   const fs::path input = dir_ / "large.obj", output = dir_ / "out.obj";
