@@ -24,6 +24,7 @@
 #include "foldfill/error.h"
 #include "foldfill/file.h"
 #include "foldfill/io.h"
+#include "foldfill/report.h"
 #include "interrupt.h"
 #include "paths.h"
 
@@ -387,7 +388,8 @@ int run_batch(FillArgs args) {
   }
   if (!args.report.empty()) {
     const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
-    const nlohmann::json report = {{"files", files},
+    const nlohmann::json report = {{"foldfill_version", version()},
+                                   {"files", files},
                                    {"totals",
                                     {{"filled", counts[FileStatus::Filled]},
                                      {"unchanged", counts[FileStatus::Unchanged]},

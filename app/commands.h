@@ -80,8 +80,12 @@ void plan_obstacle_reads(const FillArgs& args, PathPlan& plan);
 struct FileFill {
   std::vector<std::string> read_warnings;  // of reading the mesh (read_mesh)
   std::vector<BoundaryLoop> loops;
+  HoleSelection selection;  // as applied to this mesh
   HoleChoice choice;
   FillReport report;
+  // The options the fill ran with, for the report (effective_options).
+  nlohmann::json options;
+  int input_vertices = 0, input_faces = 0, output_vertices = 0, output_faces = 0;
 
   int failed_hole_count() const;
   // The warnings of reading the mesh, then those of the choice.
@@ -104,7 +108,12 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
                     const std::string& flat_dir, const FillArgs& args,
                     const ProgressCallback& progress, FileFill& fill);
 
-// The JSON report of one filled file (README, "Report").
+// The options of a fill as its report gives them (docs/report.md,
+// "options"): the fabric method's parameters after the prototype's mapping
+// (null with --method liepa, which has none), the method and `selection`.
+nlohmann::json effective_options(const FillArgs& args, const HoleSelection& selection);
+
+// The JSON report of one filled file (docs/report.md).
 nlohmann::json file_report(const FileFill& fill, const std::string& source,
                            const std::string& output);
 

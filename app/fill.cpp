@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <sstream>
 
@@ -27,19 +28,41 @@ namespace fs = std::filesystem;
 namespace foldfill::cli {
 namespace {
 
-// Progress on a terminal: one line rewritten at most ten times a second.
+// What a hole's minimisation is doing: "folds first", "minimising", on a
+// coarser level "coarse level 2, folds first".
+std::string stage_label(const SolverProgress& p) {
+  const char* stage = p.stage == MinimisationStage::FoldsFirst ? "folds first" : "minimising";
+  return p.coarse_level > 0 ? fmt::format("coarse level {}, {}", p.coarse_level, stage) : stage;
+}
+
+// Progress on a terminal: one line, rewritten at most ten times a second and
+// whenever a minimisation starts (each counts its iterations from 0):
+// "hole 1 of 2 (loop 3), minimising (started again after folds first):
+// iteration 40, energy 12.5, 2.1 s", the time counted from the fill's start.
 class ProgressLine {
  public:
-  explicit ProgressLine(bool enabled) : enabled_(enabled) {}
+  ProgressLine(bool enabled, const std::vector<int>& hole_ids)
+      : enabled_(enabled), hole_ids_(hole_ids), start_(std::chrono::steady_clock::now()) {}
   ~ProgressLine() { finish(); }
   bool operator()(int loop_id, const SolverProgress& p) {
     if (!enabled_) return true;
     std::lock_guard<std::mutex> lock(mutex_);
     const auto now = std::chrono::steady_clock::now();
-    if (now - last_ < std::chrono::milliseconds(100)) return true;
+    const std::string label = stage_label(p);
+    Stages& stages = stages_[loop_id];
+    // A hole's first minimisation, and each that starts again, is shown at once.
+    const bool new_stage = label != stages.current;
+    if (new_stage && !stages.current.empty()) stages.previous = stages.current;
+    stages.current = label;
+    if (!new_stage && now - last_ < std::chrono::milliseconds(100)) return true;
     last_ = now;
-    fmt::print(stderr, "\r\033[Kloop {}: iteration {}, energy {:.6g}", loop_id, p.iteration,
-               p.energy);
+    const auto hole = std::find(hole_ids_.begin(), hole_ids_.end(), loop_id);
+    const std::chrono::duration<double> elapsed = now - start_;
+    fmt::print(
+        stderr, "\r\033[Khole {} of {} (loop {}), {}{}: iteration {}, energy {:.6g}, {:.1f} s",
+        hole - hole_ids_.begin() + 1, hole_ids_.size(), loop_id, label,
+        stages.previous.empty() ? "" : fmt::format(" (started again after {})", stages.previous),
+        p.iteration, p.energy, elapsed.count());
     dirty_ = true;
     return true;
   }
@@ -49,10 +72,16 @@ class ProgressLine {
   }
 
  private:
+  struct Stages {
+    std::string current, previous;  // stage_label of the minimisation now and the one before
+  };
   bool enabled_;
+  std::vector<int> hole_ids_;  // the loops being filled, in order
+  std::chrono::steady_clock::time_point start_;
   bool dirty_ = false;
   std::mutex mutex_;
   std::chrono::steady_clock::time_point last_{};
+  std::map<int, Stages> stages_;  // by loop id
 };
 
 FillOptions make_fill_options(const FillArgs& args) {
@@ -72,6 +101,22 @@ FillOptions make_fill_options(const FillArgs& args) {
   options.obstacles = args.loaded_obstacles;
   options.keep_flat = !args.flat_dir.empty();
   return options;
+}
+
+const char* selection_mode_name(HoleSelection::Mode mode) {
+  switch (mode) {
+    case HoleSelection::Mode::Default:
+      return "default";
+    case HoleSelection::Mode::All:
+      return "all";
+    case HoleSelection::Mode::Ids:
+      return "ids";
+    case HoleSelection::Mode::Near:
+      return "near";
+    case HoleSelection::Mode::KeepOpen:
+      return "keep_open";
+  }
+  return "default";
 }
 
 void write_flat_meshes(const FillReport& report, const std::string& dir) {
@@ -124,11 +169,14 @@ void print_single_summary(const FileFill& fill, const std::string& source,
     if (!hole.filled) {
       fmt::print(stderr, "foldfill: error: {}\n", with_source(hole.reason, source));
     } else if (!quiet) {
-      fmt::print(
-          "filled loop {} ({} boundary vertices): {} new vertices, {} faces, {} iterations, "
-          "{:.3f} s\n",
-          hole.loop_id, hole.loop_vertex_count, hole.patch_vertex_count, hole.patch_face_count,
-          hole.iterations, hole.seconds.total);
+      const bool fabric =
+          hole.method == FillMethod::Fabric || hole.method == FillMethod::FabricRepaired;
+      fmt::print("filled loop {} ({} boundary vertices): {} new vertices, {} faces, {}, {:.3f} s\n",
+                 hole.loop_id, hole.loop_vertex_count, hole.patch_vertex_count,
+                 hole.patch_face_count,
+                 fabric ? plural(hole.iterations, "iteration")
+                        : std::string("by the ") + to_string(hole.method) + " fill",
+                 hole.seconds.total);
     }
   }
   if (quiet) return;
@@ -230,6 +278,7 @@ FileFill choose_holes(const Mesh& mesh, const std::string& source, const Selecti
   FileFill fill;
   fill.loops = find_boundary_loops(mesh, source);
   const HoleSelection chosen = selection.selection(mesh);
+  fill.selection = chosen;
   fill.choice = select_holes(fill.loops, chosen, source);
   // --keep-open goes by length alone; say so when the classifier tells
   // another story (a hole longer than the cloth's edge, a sleeve's ends).
@@ -262,6 +311,11 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
     const WatchedFill watched;
     result = fill_holes(mesh, fill.loops, fill.choice.fill, options, source);
   }
+  fill.options = effective_options(args, fill.selection);
+  fill.input_vertices = mesh.vertex_count();
+  fill.input_faces = mesh.face_count();
+  fill.output_vertices = result.mesh.vertex_count();
+  fill.output_faces = result.mesh.face_count();
   const Writing writing;  // nothing is written once a signal came
   WriteOptions write_options;
   write_options.binary = !args.ascii;
@@ -270,13 +324,44 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
   fill.report = std::move(result.report);
 }
 
+nlohmann::json effective_options(const FillArgs& args, const HoleSelection& selection) {
+  nlohmann::json options = to_json(make_fill_options(args));
+  if (args.method == "liepa") {
+    for (auto item : options.items())
+      if (item.key() != "obstacles") item.value() = nullptr;
+  }
+  options["method"] = args.method;
+  const bool keep_open = selection.mode == HoleSelection::Mode::KeepOpen;
+  nlohmann::json near = nlohmann::json::array();
+  for (const Vec3& point : selection.near) near.push_back(point);
+  options["selection"] = {
+      {"mode", selection_mode_name(selection.mode)},
+      {"holes", selection.ids},
+      {"near", near},
+      {"keep_open", keep_open ? nlohmann::json(selection.keep_open) : nlohmann::json(nullptr)},
+      {"max_hole_size", selection.max_hole_size > 0 ? nlohmann::json(selection.max_hole_size)
+                                                    : nlohmann::json(nullptr)},
+      {"max_hole_diameter", selection.max_hole_diameter > 0
+                                ? nlohmann::json(selection.max_hole_diameter)
+                                : nlohmann::json(nullptr)},
+  };
+  return options;
+}
+
 nlohmann::json file_report(const FileFill& fill, const std::string& source,
                            const std::string& output) {
   nlohmann::json report = to_json(fill.report);
+  report["foldfill_version"] = version();
   report["input"] = source;
   report["output"] = output;
-  report["filled_loops"] = fill.choice.fill;
-  report["left_open_loops"] = fill.choice.left_open;
+  report["counts"] = {{"input_vertices", fill.input_vertices},
+                      {"input_faces", fill.input_faces},
+                      {"boundary_loops", fill.loops.size()},
+                      {"output_vertices", fill.output_vertices},
+                      {"output_faces", fill.output_faces}};
+  report["options"] = fill.options;
+  report["filled_loops"] = filled_loops(fill.report);
+  report["left_open_loops"] = left_open_loops(fill.loops, fill.choice, fill.report);
   report["warnings"] = fill.warnings();
   return report;
 }
@@ -323,7 +408,7 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
   for (const std::string& warning : fill.choice.warnings) {
     print_warning(warning, source, args.quiet);
   }
-  ProgressLine progress(!args.quiet && isatty(STDERR_FILENO));
+  ProgressLine progress(!args.quiet && isatty(STDERR_FILENO), fill.choice.fill);
   fill_and_write(
       mesh, source, output, args.flat_dir, args,
       [&](int id, const SolverProgress& p) { return progress(id, p); }, fill);

@@ -4,6 +4,7 @@
 //   foldfill fill IN... -o OUTDIR         fill several files or a folder (app/batch.cpp)
 //   foldfill demo OUTDIR                  fill a built-in folded sheet
 //   foldfill render IN FILLED -o PNG      picture of a mesh before and after
+//   foldfill help [COMMAND]               the same as --help
 #include <fmt/core.h>
 #include <fmt/format.h>
 
@@ -23,6 +24,7 @@
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
 #include "foldfill/render.h"
+#include "foldfill/report.h"
 #include "interrupt.h"
 #include "paths.h"
 
@@ -104,16 +106,19 @@ void add_selection_options(CLI::App* command, SelectionArgs& args) {
   command
       ->add_option("--keep-open", args.keep_open,
                    "instead of the default: fill all but the N longest loops (2 for a sleeve)")
-      ->check(whole_number_in(0));
+      ->check(whole_number_in(0))
+      ->default_str("");  // a choice of its own, not given by default
   command
       ->add_option("--max-hole-size", args.max_hole_size,
                    "fill only loops of at most N boundary edges")
-      ->check(whole_number_in(1));
+      ->check(whole_number_in(1))
+      ->default_str("none");
   command
       ->add_option("--max-hole-diameter", args.max_hole_diameter,
                    "fill only loops whose bounding-box diagonal is at most D mean edge lengths "
                    "of the mesh")
-      ->check(number_above(0));
+      ->check(number_above(0))
+      ->default_str("none");
 }
 
 std::string format_vec(const Vec3& v) {
@@ -223,6 +228,9 @@ void write_picture(const std::vector<Mesh>& meshes, const RenderArgs& args) {
   for (size_t m = 0; m < meshes.size(); ++m) {
     options.highlight_from = m == 0 ? -1 : first_new;
     panels.push_back(render(meshes[m], camera, options));
+    draw_label(panels.back(), m == 0               ? std::string("input")
+                              : meshes.size() == 2 ? std::string("filled")
+                                                   : "filled " + std::to_string(m));
   }
   const Writing writing;
   write_png(side_by_side(panels), args.output);
@@ -290,6 +298,87 @@ int run_demo(const std::string& out_dir, FillArgs args) {
   return code;
 }
 
+// --help with each option's default in brackets after its type,
+// `--lambda FLOAT:>= 0 [0.0002]`, where it has one (an empty list has none).
+class DefaultsFormatter : public CLI::Formatter {
+ public:
+  std::string make_option_opts(const CLI::Option* option) const override {
+    std::string out;
+    if (!option->get_option_text().empty()) return " " + option->get_option_text();
+    if (option->get_type_size() == 0) return out;
+    if (!option->get_type_name().empty()) out += " " + get_label(option->get_type_name());
+    const std::string value = option->get_default_str();
+    if (!value.empty() && value != "[]") out += " [" + value + "]";
+    if (option->get_expected_max() == CLI::detail::expected_max_vector_size) {
+      out += " ...";
+    } else if (option->get_expected_min() > 1) {
+      out += " x " + std::to_string(option->get_expected());
+    }
+    if (option->get_required()) out += " " + get_label("REQUIRED");
+    return out;
+  }
+};
+
+// A parse error of CLI11 in the form of the others, "--OPTION: problem" (or
+// "ARGUMENT: problem"), on one line.
+std::string usage_message(const CLI::ParseError& error) {
+  std::string message = error.what();
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  if (dynamic_cast<const CLI::ExtrasError*>(&error)) {
+    // "The following argument(s) were not expected: A B"
+    const std::string arguments = message.substr(message.find(": ") + 2);
+    return arguments + ": " +
+           (arguments[0] == '-' ? "not an option of this command"
+                                : "not expected here (too many arguments)");
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&error)) {
+    const std::string suffix = " is required";
+    if (message == "A subcommand is required")
+      return "a command is required: holes, fill, demo, render or help";
+    if (message.size() > suffix.size() &&
+        message.compare(message.size() - suffix.size(), suffix.size(), suffix) == 0)
+      return message.substr(0, message.size() - suffix.size()) + ": required";
+  }
+  return message;
+}
+
+// Refuses the options given to `command` (fill or demo) that would have no
+// effect with the others: the prototype's weights without --preset
+// prototype, the weights it sets with it, the fabric method's parameters with
+// --method liepa, --coarse-start with --solver gd.
+void check_options_apply(const CLI::App* command, const FillArgs& args) {
+  const auto given = [&](const char* option) { return command->count(option) > 0; };
+  const auto refuse_each = [&](std::initializer_list<const char*> options, const std::string& why) {
+    for (const char* option : options)
+      if (given(option)) throw CLI::ValidationError(option, why);
+  };
+  if (args.method == "liepa") {
+    refuse_each({"--lambda", "--shrink", "--density", "--repulsion", "--thickness", "--bending",
+                 "--solver", "--preset", "--alpha", "--beta", "--mu", "--max-iterations",
+                 "--coarse-start", "--time-limit", "--flat-dir"},
+                "has no effect with --method liepa (a parameter of the fabric method)");
+  }
+  if (args.preset == "prototype") {
+    refuse_each({"--lambda", "--repulsion"},
+                "has no effect with --preset prototype (its --alpha, --beta and --mu set it)");
+  } else {
+    refuse_each({"--alpha", "--beta", "--mu"}, "has no effect without --preset prototype");
+  }
+  if (args.solver == "gd")
+    refuse_each({"--coarse-start"}, "has no effect with --solver gd (it always starts from ARAP)");
+}
+
+// A picture file: render writes PNG only.
+const CLI::Validator png_path(
+    [](std::string& value) -> std::string {
+      std::string extension = fs::path(value).extension().string();
+      std::transform(extension.begin(), extension.end(), extension.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (extension == ".png") return "";
+      return "'" + value + "': render writes PNG pictures only (a .png file)";
+    },
+    "FILE.png");
+
 void add_fill_options(CLI::App* command, FillArgs& args) {
   add_selection_options(command, args.selection);
   command
@@ -353,7 +442,16 @@ void add_fill_options(CLI::App* command, FillArgs& args) {
 int main(int argc, char** argv) {
   CLI::App app{"foldfill: fills holes in fabric meshes so that folds continue through them"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "foldfill 0.1.0");
+  app.set_version_flag("--version", std::string("foldfill ") + version());
+  // Every option's default in --help (the subcommands inherit both).
+  app.formatter(std::make_shared<DefaultsFormatter>());
+  app.option_defaults()->always_capture_default();
+
+  std::string help_topic;
+  CLI::App* help_command =
+      app.add_subcommand("help", "the same as --help; `help COMMAND`: that command's --help");
+  help_command->add_option("command", help_topic, "a command")
+      ->check(CLI::IsMember({"holes", "fill", "demo", "render"}));
 
   std::string holes_path;
   SelectionArgs holes_selection;
@@ -364,7 +462,8 @@ int main(int argc, char** argv) {
   holes
       ->add_option("--keep-open", holes_selection.keep_open,
                    "count the N longest loops as left open, the rest as filled")
-      ->check(whole_number_in(0));
+      ->check(whole_number_in(0))
+      ->default_str("");
 
   FillArgs fill_args;
   CLI::App* fill = app.add_subcommand("fill", "fill holes and write the result");
@@ -378,7 +477,7 @@ int main(int argc, char** argv) {
   fill->add_option("--format", fill_args.format,
                    "format of outputs written into a folder (default: the input's)")
       ->check(CLI::IsMember({"obj", "ply", "off", "stl"}));
-  fill->add_option("-j,--jobs", fill_args.jobs, "files filled in parallel (default 1)")
+  fill->add_option("-j,--jobs", fill_args.jobs, "files filled in parallel")
       ->check(whole_number_in(1));
   add_fill_options(fill, fill_args);
 
@@ -394,7 +493,9 @@ int main(int argc, char** argv) {
       "render", "PNG of meshes side by side, the last one's new faces in orange");
   render_command->add_option("meshes", render_args.meshes, "input mesh, then filled mesh(es)")
       ->required();
-  render_command->add_option("-o,--output", render_args.output, "PNG file")->required();
+  render_command->add_option("-o,--output", render_args.output, "PNG file")
+      ->required()
+      ->check(png_path);
   render_command->add_option("--azimuth", render_args.azimuth, "degrees")
       ->check(number_in(-HUGE_VAL));
   render_command->add_option("--elevation", render_args.elevation, "degrees")
@@ -407,6 +508,15 @@ int main(int argc, char** argv) {
   install_interrupt_handlers();
   try {
     app.parse(argc, argv);
+    if (*help_command) {
+      // app.help() would show the help of the command parsed, `help` itself.
+      fmt::print("{}", help_topic.empty() ? app.get_formatter()->make_help(
+                                                &app, app.get_name(), CLI::AppFormatMode::Normal)
+                                          : app.get_subcommand(help_topic)->help(app.get_name()));
+      return 0;
+    }
+    if (*fill) check_options_apply(fill, fill_args);
+    if (*demo) check_options_apply(demo, demo_args);
     if (*holes) return run_holes(holes_path, holes_selection, holes_json);
     if (*fill) return run_fill(fill_args);
     if (*demo) return run_demo(demo_dir, demo_args);
@@ -414,13 +524,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // One line, like every error; the command's --help lists its options.
-    std::string message = e.what();
-    std::replace(message.begin(), message.end(), '\n', ' ');
     std::string help = "foldfill --help";
     for (const CLI::App* command : {holes, fill, demo, render_command}) {
       if (command->parsed()) help = "foldfill " + command->get_name() + " --help";
     }
-    fmt::print(stderr, "foldfill: error: {} (see {})\n", message, help);
+    fmt::print(stderr, "foldfill: error: {} (see {})\n", usage_message(e), help);
     return static_cast<int>(ErrorKind::Usage);
   } catch (const Interrupted& e) {
     fmt::print(stderr, "foldfill: error: {}\n", e.what());

@@ -678,6 +678,30 @@ const char* to_string(ChoiceReason reason) {
   return "?";
 }
 
+const char* json_name(ChoiceReason reason) {
+  switch (reason) {
+    case ChoiceReason::IsAHole:
+      return "is_a_hole";
+    case ChoiceReason::Named:
+      return "named";
+    case ChoiceReason::NotLongest:
+      return "not_longest";
+    case ChoiceReason::NotAHole:
+      return "not_a_hole";
+    case ChoiceReason::NotADisk:
+      return "not_a_disk";
+    case ChoiceReason::NotNamed:
+      return "not_named";
+    case ChoiceReason::Longest:
+      return "longest";
+    case ChoiceReason::TooManyEdges:
+      return "too_many_edges";
+    case ChoiceReason::TooWide:
+      return "too_wide";
+  }
+  return "?";
+}
+
 std::vector<int> longest_loops(const std::vector<BoundaryLoop>& loops, int count) {
   std::vector<int> order(loops.size());
   std::iota(order.begin(), order.end(), 0);

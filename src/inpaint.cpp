@@ -91,6 +91,8 @@ std::vector<Tri> patch_faces(const EmbedDomain& domain) {
   return {domain.faces.begin() + domain.strip_face_count, domain.faces.end()};
 }
 
+}  // namespace
+
 void apply_prototype_weights(const PrototypeWeights& w, double length_scale, EnergyOptions& energy,
                              SolverOptions& solver) {
   // The quadratic bending energy is scale-free and the prototype scaled its
@@ -102,6 +104,8 @@ void apply_prototype_weights(const PrototypeWeights& w, double length_scale, Ene
   energy.repulsion = w.mu / w.alpha;
   solver.step = w.step * w.alpha;
 }
+
+namespace {
 
 void check_options(const FillOptions& options, const std::string& source) {
   if (!options.prototype) return;
@@ -586,6 +590,11 @@ SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy&
   // It only has to set the folds up: a looser stop.
   SolverOptions rough = solver;
   rough.relative_energy_tol = kFoldsFirstTolerance;
+  if (solver.progress)
+    rough.progress = [&](SolverProgress p) {
+      p.stage = MinimisationStage::FoldsFirst;
+      return solver.progress(p);
+    };
   SolverResult folded = minimise(stiff, contact, start, rough, budget);
   if (folded.stop_reason == StopReason::Cancelled) return folded;
   SolverResult result = minimise(energy, contact, stiff.positions(folded.x), solver, budget);
@@ -619,6 +628,12 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
   std::optional<std::vector<Vec3>> coarse;  // the finest coarse level's result, interpolated
   for (size_t k = levels.size(); k-- > 0 && !budget.spent();) {
     const EmbedDomain& level = levels[k];
+    SolverOptions level_solver = solver;
+    if (solver.progress)
+      level_solver.progress = [&, k](SolverProgress p) {
+        p.coarse_level = static_cast<int>(k) + 1;
+        return solver.progress(p);
+      };
     const FabricEnergy level_energy(level, energy_options);
     const PatchContact level_contact(level, scene, options.contact, obstacles.analytic);
     const Level here{level, level_energy, level_contact, obstacles.normalised};
@@ -631,9 +646,10 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     }
     // The coarsest level forms the large folds (minimise_folds_first).
     const SolverResult solved =
-        k + 1 == levels.size() ? minimise_folds_first(level, level_energy, &level_contact, *from,
-                                                      solver, options.stiff_start_lambda, budget)
-                               : minimise(level_energy, &level_contact, *from, solver, budget);
+        k + 1 == levels.size()
+            ? minimise_folds_first(level, level_energy, &level_contact, *from, level_solver,
+                                   options.stiff_start_lambda, budget)
+            : minimise(level_energy, &level_contact, *from, level_solver, budget);
     if (solved.stop_reason == StopReason::Cancelled)
       throw Error(ErrorKind::FillFailed, "cancelled");
     const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
@@ -1109,6 +1125,7 @@ HolePatch unfilled(const FillContext& context, const BoundaryLoop& loop,
   HolePatch patch;
   patch.report.loop_id = loop.id;
   patch.report.loop_vertex_count = static_cast<int>(loop.vertices.size());
+  patch.report.cancelled = context.cancelled.load(std::memory_order_relaxed);
   patch.report.reason = message.rfind(where + ": ", 0) == 0 ? message : where + ": " + message;
   return patch;
 }

@@ -52,6 +52,8 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
   const auto start = std::chrono::steady_clock::now();
   SurfaceMesh sm = to_surface_mesh(mesh, source);
   FillResult result{mesh, {}};
+  const auto holes_start = std::chrono::steady_clock::now();
+  result.report.seconds_prepare = std::chrono::duration<double>(holes_start - start).count();
   std::vector<std::vector<SurfaceMesh::Face_index>> hole_faces;
   for (int id : fill_ids) {
     const BoundaryLoop& loop = loops.at(id);
@@ -80,6 +82,8 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
     result.report.holes.push_back(report);
     hole_faces.push_back(std::move(faces));
   }
+  const auto stitch_start = std::chrono::steady_clock::now();
+  result.report.seconds_holes = std::chrono::duration<double>(stitch_start - holes_start).count();
   // CGAL appends vertices and faces after the existing ones; `index` maps
   // the new ones to their place in the result.
   std::vector<int> index(sm.number_of_faces(), -1);
@@ -116,6 +120,8 @@ FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& l
   }
   mark_new_elements(result.mesh, loops, result.report);
   const auto crossings_start = std::chrono::steady_clock::now();
+  result.report.seconds_stitch =
+      std::chrono::duration<double>(crossings_start - stitch_start).count();
   measure_crossings(result.mesh, patch_faces, obstacles, source, result.report);
   const auto end = std::chrono::steady_clock::now();
   result.report.seconds_crossings = std::chrono::duration<double>(end - crossings_start).count();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "foldfill/error.h"
+#include "foldfill/metrics.h"
 
 namespace foldfill {
 namespace {
@@ -92,6 +93,9 @@ void mark_new_elements(Mesh& mesh, const std::vector<BoundaryLoop>& loops, FillR
     hole.new_faces = {next_face, next_face + hole.patch_face_count};
     next_vertex = hole.new_vertices.end;
     next_face = hole.new_faces.end;
+    hole.patch_area =
+        total_area(mesh.positions, std::vector<Tri>(mesh.faces.begin() + hole.new_faces.first,
+                                                    mesh.faces.begin() + hole.new_faces.end));
     mesh.vertex_hole.insert(mesh.vertex_hole.end(), hole.new_vertices.size(), hole.loop_id);
     mesh.face_hole.insert(mesh.face_hole.end(), hole.new_faces.size(), hole.loop_id);
     const std::vector<double> values =

@@ -302,9 +302,13 @@ SolverResult run(Stepper& stepper, Iterate& current, const SolverOptions& option
       result.x = current.x;
       best_energy = current.energy;
     }
-    if (options.progress &&
-        !options.progress({result.iterations, current.energy, rms_gradient(current.gradient)}))
-      return finish(StopReason::Cancelled);
+    if (options.progress) {
+      SolverProgress progress;
+      progress.iteration = result.iterations;
+      progress.energy = current.energy;
+      progress.gradient_norm = rms_gradient(current.gradient);
+      if (!options.progress(progress)) return finish(StopReason::Cancelled);
+    }
     const double change = std::abs(current.energy - previous) /
                           std::max(current.energy, std::numeric_limits<double>::min());
     stalled = change < relative_tol ? stalled + 1 : 0;

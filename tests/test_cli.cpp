@@ -2,6 +2,7 @@
 // nothing written on failure, the input never touched, `holes` and `demo`.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <pty.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -12,13 +13,17 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <thread>
 
 #include "foldfill/examples.h"
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
+#include "foldfill/render.h"
+#include "foldfill/report.h"
 #include "test_support.h"
 
 namespace foldfill {
@@ -603,8 +608,7 @@ TEST_F(CliTest, RenderOutputEqualToAnInputIsRefused) {
 
 // A fill that takes minutes (gradient descent on about 4,000 patch vertices)
 // but for its time limit.
-const char* const kSlowFill =
-    " --solver gd --coarse-start 0 --density 2 --max-iterations 1000000 --time-limit 30";
+const char* const kSlowFill = " --solver gd --density 2 --max-iterations 1000000 --time-limit 30";
 
 TEST_F(CliTest, SignalDuringTheFillExits130AndWritesNothing) {
   const fs::path input = dir_ / "large.obj", output = dir_ / "out.obj";
@@ -1161,6 +1165,503 @@ TEST_F(CliTest, BatchOverTheReferenceFolderFillsSix) {
     const Mesh before = read_mesh((in / name).string()), after = read_mesh((out / name).string());
     EXPECT_EQ(find_boundary_loops(after).size() + 1, find_boundary_loops(before).size()) << name;
   }
+}
+
+// ---- The report and docs/report.md ----------------------------------------
+
+// The keys of a table of docs/report.md: dotted path -> its "present" column.
+using KeyTable = std::map<std::string, std::string>;
+
+// The tables of docs/report.md: the rows of the section "One file", then those
+// of "Several files". A row is "| `path` | present | value | meaning |".
+std::pair<KeyTable, KeyTable> documented_keys() {
+  std::ifstream in(std::string(FOLDFILL_DOCS_DIR) + "/report.md");
+  EXPECT_TRUE(in.good()) << "cannot read docs/report.md";
+  KeyTable single, batch;
+  KeyTable* table = nullptr;
+  for (std::string line; std::getline(in, line);) {
+    if (line == "## One file") table = &single;
+    if (line == "## Several files") table = &batch;
+    if (!table || line.rfind("| `", 0) != 0) continue;
+    const size_t end = line.find('`', 3);
+    const size_t cell = line.find('|', end);
+    const size_t next = line.find('|', cell + 1);
+    std::string present = line.substr(cell + 1, next - cell - 1);
+    present.erase(0, present.find_first_not_of(' '));
+    present.erase(present.find_last_not_of(' ') + 1);
+    EXPECT_TRUE(table->emplace(line.substr(3, end - 3), present).second)
+        << "listed twice: " << line;
+  }
+  return {single, batch};
+}
+
+// Every key path of `value` under `path` (objects in arrays under "path[]").
+void collect_keys(const nlohmann::json& value, const std::string& path,
+                  std::set<std::string>& keys) {
+  if (value.is_object()) {
+    for (const auto& item : value.items()) {
+      const std::string key = path.empty() ? item.key() : path + "." + item.key();
+      keys.insert(key);
+      collect_keys(item.value(), key, keys);
+    }
+  } else if (value.is_array()) {
+    for (const nlohmann::json& element : value) {
+      if (!element.is_object()) continue;
+      keys.insert(path + "[]");
+      collect_keys(element, path + "[]", keys);
+    }
+  }
+}
+
+// The objects at `path` in `root` (each element for a segment "name[]"),
+// null ones left out.
+std::vector<const nlohmann::json*> objects_at(const nlohmann::json& root, const std::string& path) {
+  std::vector<const nlohmann::json*> found = {&root};
+  std::stringstream segments(path);
+  for (std::string segment; !path.empty() && std::getline(segments, segment, '.');) {
+    const bool each = segment.size() > 2 && segment.compare(segment.size() - 2, 2, "[]") == 0;
+    if (each) segment.resize(segment.size() - 2);
+    std::vector<const nlohmann::json*> next;
+    for (const nlohmann::json* object : found) {
+      if (!object->is_object() || !object->contains(segment)) continue;
+      const nlohmann::json& value = (*object)[segment];
+      if (!each) {
+        next.push_back(&value);
+        continue;
+      }
+      for (const nlohmann::json& element : value) next.push_back(&element);
+    }
+    found = std::move(next);
+  }
+  std::vector<const nlohmann::json*> objects;
+  for (const nlohmann::json* value : found)
+    if (value->is_object()) objects.push_back(value);
+  return objects;
+}
+
+// Checks `report` against `table`: every key documented, every key documented
+// as always present there wherever its parent is an object. Adds the keys
+// seen to `seen`.
+void expect_documented(const nlohmann::json& report, const KeyTable& table, const std::string& what,
+                       std::set<std::string>& seen) {
+  std::set<std::string> keys;
+  collect_keys(report, "", keys);
+  for (const std::string& key : keys) {
+    EXPECT_TRUE(table.count(key)) << what << ": key " << key << " is not in docs/report.md";
+  }
+  seen.insert(keys.begin(), keys.end());
+  for (const auto& [key, present] : table) {
+    if (present != "always" || key.size() < 2 || key.compare(key.size() - 2, 2, "[]") == 0)
+      continue;
+    const size_t dot = key.rfind('.');
+    const std::string parent = dot == std::string::npos ? "" : key.substr(0, dot);
+    const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
+    for (const nlohmann::json* object : objects_at(report, parent)) {
+      EXPECT_TRUE(object->contains(name))
+          << what << ": " << key << " is documented as always present but is missing";
+    }
+  }
+}
+
+TEST_F(CliTest, ReportKeysAreThoseOfDocsReportMd) {
+  const auto [single, batch_only] = documented_keys();
+  ASSERT_GT(single.size(), 50u);
+  // A batch entry is a file's report with the batch's own keys.
+  KeyTable batch = batch_only;
+  // (a file that could not be read has only input, output and those).
+  for (const auto& [key, present] : single) {
+    const bool kept = key == "input" || key == "output";
+    batch.emplace("files[]." + key, kept ? present : "the file was filled");
+  }
+
+  const fs::path input = dir_ / "grid.obj", report = dir_ / "r.json";
+  write_text(input, grid_with_two_holes_obj());
+  const std::string fill = "fill " + input.string() + " -o " + (dir_ / "out.obj").string() +
+                           " --report " + report.string() + " ";
+  std::set<std::string> seen;
+  struct Run {
+    std::string what, arguments;
+  };
+  std::vector<Run> runs = {{"fabric", fill},
+                           {"liepa", fill + "--method liepa"},
+                           {"prototype, gd", fill + "--holes 1 --preset prototype --solver gd "
+                                                    "--max-iterations 200 --max-hole-size 6"}};
+  if (!foldfill::testing::shared_dir().empty()) {
+    const fs::path reference = foldfill::testing::shared_dir() / "data/reference/paper2_hole.obj";
+    runs.push_back({"paper2", "fill " + reference.string() + " -o " +
+                                  (dir_ / "paper2.obj").string() + " --report " + report.string() +
+                                  " --preset prototype --alpha 0.4 --beta 0.02 --mu 0.01"});
+  }
+  for (const Run& run : runs) {
+    const CliRun result = run_cli(run.arguments, dir_);
+    ASSERT_EQ(result.code, 0) << run.what << ": " << result.err;
+    expect_documented(nlohmann::json::parse(slurp(report)), single, run.what, seen);
+  }
+
+  const CliRun demo =
+      run_cli("demo " + (dir_ / "demo").string() + " --quiet --max-iterations 50", dir_);
+  ASSERT_EQ(demo.code, 0) << demo.err;
+  expect_documented(nlohmann::json::parse(slurp(dir_ / "demo" / "report.json")), single, "demo",
+                    seen);
+
+  fs::create_directories(dir_ / "in");
+  fs::copy_file(input, dir_ / "in" / "a.obj");
+  write_text(dir_ / "in" / "b.obj", "not a mesh\n");
+  const CliRun many = run_cli("fill " + (dir_ / "in").string() + " -o " + (dir_ / "out").string() +
+                                  " --report " + report.string(),
+                              dir_);
+  EXPECT_EQ(many.code, 11) << many.err;
+  std::set<std::string> seen_in_batch;
+  expect_documented(nlohmann::json::parse(slurp(report)), batch, "batch", seen_in_batch);
+
+  for (const auto& [key, present] : single) {
+    EXPECT_TRUE(seen.count(key) || present != "always")
+        << key << " is documented as always present but no report held it";
+  }
+  for (const auto& [key, present] : batch_only) {
+    EXPECT_TRUE(seen_in_batch.count(key) || present != "always")
+        << key << " is documented as always present but the batch report did not hold it";
+  }
+}
+
+TEST_F(CliTest, ReportSaysWhatWasFilledWhatIsOpenAndWithWhat) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj", report = dir_ / "r.json";
+  write_text(input, grid_with_two_holes_obj());
+  const std::string fill =
+      "fill " + input.string() + " -o " + output.string() + " --report " + report.string() + " ";
+  CliRun run = run_cli(fill + "--max-hole-size 4 --density 1.5", dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  nlohmann::json r = nlohmann::json::parse(slurp(report));
+  EXPECT_EQ(r["foldfill_version"], version());
+  EXPECT_EQ(r["counts"],
+            (nlohmann::json{{"input_vertices", 81},
+                            {"input_faces", 2 * 64 - 10},
+                            {"boundary_loops", 3},
+                            {"output_vertices", read_mesh(output.string()).vertex_count()},
+                            {"output_faces", read_mesh(output.string()).face_count()}}));
+  EXPECT_EQ(r["filled_loops"], nlohmann::json({1}));
+  EXPECT_EQ(r["left_open_loops"],
+            (nlohmann::json{{{"loop_id", 0}, {"kind", "outer_edge"}, {"reason", "not_a_hole"}},
+                            {{"loop_id", 2}, {"kind", "hole"}, {"reason", "too_many_edges"}}}));
+  const nlohmann::json& options = r["options"];
+  EXPECT_EQ(options["method"], "foldfill");
+  EXPECT_EQ(options["density"], 1.5);
+  EXPECT_EQ(options["lambda"], 0.0002);
+  EXPECT_EQ(options["solver"], "fast");
+  EXPECT_TRUE(options["step"].is_null());
+  EXPECT_EQ(options["selection"]["mode"], "default");
+  EXPECT_EQ(options["selection"]["max_hole_size"], 4);
+  const nlohmann::json& hole = r["holes"][0];
+  EXPECT_EQ(hole["status"], "filled");
+  EXPECT_EQ(hole["method"], "fabric");
+  EXPECT_TRUE(hole["warning"].is_null());
+  EXPECT_TRUE(hole["reason"].is_null());
+  const double patch_area = hole["patch_area"], flat_area = hole["flat_area"];
+  EXPECT_GT(patch_area, 0);
+  EXPECT_NEAR(flat_area, 1, 1e-9);  // the missing unit square, flat
+  EXPECT_NEAR(hole["area_ratio_to_flat"].get<double>(), patch_area / flat_area, 1e-9);
+
+  // Liepa measures none of the fabric method's figures: null, not zero.
+  run = run_cli(fill + "--method liepa --holes 1,2", dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  r = nlohmann::json::parse(slurp(report));
+  EXPECT_EQ(r["filled_loops"], nlohmann::json({1, 2}));
+  EXPECT_EQ(r["left_open_loops"],
+            (nlohmann::json{{{"loop_id", 0}, {"kind", "outer_edge"}, {"reason", "not_named"}}}));
+  EXPECT_EQ(r["options"]["method"], "liepa");
+  EXPECT_EQ(r["options"]["selection"]["mode"], "ids");
+  EXPECT_EQ(r["options"]["selection"]["holes"], nlohmann::json({1, 2}));
+  for (const char* key : {"lambda", "repulsion", "shrink", "solver", "fallback"})
+    EXPECT_TRUE(r["options"][key].is_null()) << key;
+  for (const nlohmann::json& liepa : r["holes"]) {
+    EXPECT_EQ(liepa["method"], "liepa");
+    EXPECT_EQ(liepa["status"], "filled");
+    EXPECT_GT(liepa["patch_area"].get<double>(), 0);
+    for (const char* key : {"energy", "flattening", "triangulation", "area_ratio_to_flat",
+                            "flat_area", "iterations", "lambda", "stop_reason"})
+      EXPECT_TRUE(liepa[key].is_null()) << key;
+    EXPECT_TRUE(liepa["seconds"]["flatten"].is_null());
+    EXPECT_GE(liepa["seconds"]["total"].get<double>(), 0);
+  }
+  const std::string text = slurp(report);
+  EXPECT_EQ(text.find("simple_polygon"), std::string::npos);
+  EXPECT_EQ(text.find("area_ratio_to_flat\": 0"), std::string::npos);
+
+  // With the prototype's weights, the mapped ones: repulsion mu / alpha;
+  // lambda depends on the hole (quadratic bending), so it is the hole's.
+  run = run_cli(fill + "--holes 1 --preset prototype --alpha 0.2 --mu 0.05 --max-iterations 100",
+                dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  r = nlohmann::json::parse(slurp(report));
+  EXPECT_NEAR(r["options"]["repulsion"].get<double>(), 0.25, 1e-12);
+  EXPECT_TRUE(r["options"]["lambda"].is_null());
+  EXPECT_EQ(r["options"]["prototype"]["alpha"], 0.2);
+  EXPECT_NEAR(r["holes"][0]["lambda"].get<double>(),
+              0.001 * 0.003 / (0.2 * std::pow(r["holes"][0]["length_scale"].get<double>(), 2)),
+              1e-12);
+}
+
+// A chosen hole that is not filled is in left_open_loops, with its status, and
+// not in filled_loops.
+TEST(ReportLoops, AChosenHoleNotFilledIsLeftOpen) {
+  std::vector<BoundaryLoop> loops(4);
+  for (int id = 0; id < 4; ++id) loops[id].id = id;
+  loops[0].kind = LoopKind::OuterEdge;
+  HoleChoice choice;
+  choice.fill = {1, 2, 3};
+  choice.left_open = {0};
+  choice.reasons = {ChoiceReason::NotAHole, ChoiceReason::IsAHole, ChoiceReason::IsAHole,
+                    ChoiceReason::IsAHole};
+  FillReport report;
+  report.holes.resize(3);
+  report.holes[0].loop_id = 1;
+  report.holes[0].filled = true;
+  report.holes[1].loop_id = 2;
+  report.holes[1].reason = "mesh: loop 2: the strip is not an annulus";
+  report.holes[2].loop_id = 3;
+  report.holes[2].cancelled = true;
+  EXPECT_EQ(filled_loops(report), std::vector<int>{1});
+  EXPECT_EQ(left_open_loops(loops, choice, report),
+            (nlohmann::json{{{"loop_id", 0}, {"kind", "outer_edge"}, {"reason", "not_a_hole"}},
+                            {{"loop_id", 2}, {"kind", "hole"}, {"reason", "failed"}},
+                            {{"loop_id", 3}, {"kind", "hole"}, {"reason", "cancelled"}}}));
+  const nlohmann::json failed = to_json(report.holes[1]);
+  EXPECT_EQ(failed["status"], "failed");
+  EXPECT_EQ(failed["reason"], report.holes[1].reason);
+  for (const char* key : {"method", "patch_area", "new_faces", "crossings", "energy"})
+    EXPECT_TRUE(failed[key].is_null()) << key;
+  EXPECT_EQ(to_json(report.holes[2])["status"], "cancelled");
+}
+
+// ---- The command line ------------------------------------------------------
+
+TEST_F(CliTest, VersionAndHelpCommand) {
+  const CliRun version_run = run_cli("--version", dir_);
+  EXPECT_EQ(version_run.code, 0);
+  EXPECT_EQ(version_run.out, "foldfill " + std::string(version()) + "\n");
+  const CliRun help = run_cli("--help", dir_), help_command = run_cli("help", dir_);
+  EXPECT_EQ(help_command.code, 0) << help_command.err;
+  EXPECT_EQ(help_command.out, help.out);
+  EXPECT_NE(help.out.find("help"), std::string::npos) << help.out;
+  for (const char* command : {"fill", "holes", "demo", "render"}) {
+    const CliRun topic = run_cli(std::string("help ") + command, dir_);
+    EXPECT_EQ(topic.code, 0) << topic.err;
+    EXPECT_EQ(topic.out, run_cli(std::string(command) + " --help", dir_).out) << command;
+  }
+  const CliRun unknown = run_cli("help fil", dir_);
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_EQ(unknown.err.rfind("foldfill: error: command: ", 0), 0u) << unknown.err;
+}
+
+// The line of --help that shows `option`.
+std::string help_line(const std::string& help, const std::string& option) {
+  std::istringstream lines(help);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(" " + option + " ") != std::string::npos ||
+        line.find("," + option + " ") != std::string::npos)
+      return line;
+  return "";
+}
+
+TEST_F(CliTest, HelpShowsTheDefaults) {
+  const CliRun fill = run_cli("fill --help", dir_);
+  ASSERT_EQ(fill.code, 0) << fill.err;
+  for (const auto& [option, value] :
+       std::vector<std::pair<std::string, std::string>>{{"--lambda", "0.0002"},
+                                                        {"--shrink", "0.5"},
+                                                        {"--density", "1"},
+                                                        {"--repulsion", "1"},
+                                                        {"--thickness", "0.1"},
+                                                        {"--bending", "quadratic"},
+                                                        {"--solver", "fast"},
+                                                        {"--method", "foldfill"},
+                                                        {"--max-iterations", "20000"},
+                                                        {"--coarse-start", "1000"},
+                                                        {"--time-limit", "0"},
+                                                        {"--alpha", "0.1"},
+                                                        {"--jobs", "1"}}) {
+    const std::string line = help_line(fill.out, option);
+    EXPECT_NE(line.find("[" + value + "]"), std::string::npos) << option << ": " << line;
+  }
+  const CliRun render = run_cli("render --help", dir_);
+  EXPECT_NE(help_line(render.out, "--width").find("[640]"), std::string::npos) << render.out;
+}
+
+TEST_F(CliTest, OptionsWithoutEffectAreRefused) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const std::string fill = "fill " + input.string() + " -o " + output.string() + " ";
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--alpha 0.2", "--alpha: has no effect without --preset prototype"},
+           {"--mu 0.2", "--mu: has no effect without --preset prototype"},
+           {"--preset prototype --lambda 0.1",
+            "--lambda: has no effect with --preset prototype (its --alpha, --beta and --mu set "
+            "it)"},
+           {"--method liepa --lambda 0.1",
+            "--lambda: has no effect with --method liepa (a parameter of the fabric method)"},
+           {"--method liepa -c 0.4", "--shrink: has no effect with --method liepa"},
+           {"--method liepa --time-limit 3", "--time-limit: has no effect with --method liepa"},
+           {"--method liepa --flat-dir " + (dir_ / "flat").string(),
+            "--flat-dir: has no effect with --method liepa"},
+           {"--solver gd --coarse-start 10", "--coarse-start: has no effect with --solver gd"}}) {
+    const CliRun run = run_cli(fill + arguments, dir_);
+    EXPECT_EQ(run.code, 2) << arguments;
+    EXPECT_EQ(run.err.rfind("foldfill: error: " + message, 0), 0u) << run.err;
+    EXPECT_NE(run.err.find("(see foldfill fill --help)\n"), std::string::npos) << run.err;
+    EXPECT_EQ(line_count(run.err), 1) << run.err;
+  }
+  const CliRun demo = run_cli("demo " + (dir_ / "demo").string() + " --beta 0.1", dir_);
+  EXPECT_EQ(demo.code, 2);
+  EXPECT_EQ(demo.err.rfind("foldfill: error: --beta: has no effect without --preset prototype", 0),
+            0u)
+      << demo.err;
+  EXPECT_FALSE(fs::exists(output));
+  EXPECT_FALSE(fs::exists(dir_ / "demo"));
+  EXPECT_FALSE(fs::exists(dir_ / "flat"));
+}
+
+TEST_F(CliTest, UsageErrorsNameTheOptionOrArgument) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const std::string fill = "fill " + input.string() + " ";
+  for (const auto& [arguments, line] : std::vector<std::pair<std::string, std::string>>{
+           {fill + "-o " + output.string() + " --bogus",
+            "--bogus: not an option of this command (see foldfill fill --help)"},
+           {"fill", "inputs: required (see foldfill fill --help)"},
+           {"", "a command is required: holes, fill, demo, render or help (see foldfill --help)"},
+           {"render " + input.string(), "--output: required (see foldfill render --help)"},
+           {"holes " + input.string() + " extra",
+            "extra: not expected here (too many arguments) (see foldfill holes --help)"}}) {
+    const CliRun run = run_cli(arguments, dir_);
+    EXPECT_EQ(run.code, 2) << arguments;
+    EXPECT_EQ(run.err, "foldfill: error: " + line + "\n") << arguments;
+  }
+}
+
+// A report or an output in a folder that does not exist is refused before
+// any work (code 10), the output is not written.
+TEST_F(CliTest, AMissingReportOrOutputFolderIsFoundBeforeAnyWork) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.obj";
+  write_text(input, grid_with_hole_obj());
+  const fs::path missing = dir_ / "missing";
+  CliRun run = run_cli("fill " + input.string() + " -o " + output.string() + " --report " +
+                           (missing / "r.json").string(),
+                       dir_);
+  EXPECT_EQ(run.code, 10) << run.err;
+  EXPECT_EQ(run.err, "foldfill: error: " + (missing / "r.json").string() +
+                         ": cannot write (no folder " + missing.string() + ")\n");
+  EXPECT_FALSE(fs::exists(output));
+  run = run_cli("fill " + input.string() + " -o " + (missing / "out.obj").string(), dir_);
+  EXPECT_EQ(run.code, 10) << run.err;
+  EXPECT_NE(run.err.find("no folder " + missing.string()), std::string::npos) << run.err;
+  // A batch too: nothing filled, nothing written.
+  fs::create_directories(dir_ / "in");
+  fs::copy_file(input, dir_ / "in" / "a.obj");
+  run = run_cli("fill " + (dir_ / "in").string() + " -o " + (dir_ / "out").string() + " --report " +
+                    (missing / "r.json").string(),
+                dir_);
+  EXPECT_EQ(run.code, 10) << run.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  EXPECT_FALSE(fs::exists(missing));
+}
+
+TEST_F(CliTest, RenderWritesLabelledPngOnly) {
+  const fs::path input = dir_ / "grid.obj";
+  write_text(input, grid_with_hole_obj());
+  for (const char* name : {"p.jpg", "p.PNG.gif", "p"}) {
+    const CliRun run = run_cli(
+        "render " + input.string() + " " + input.string() + " -o " + (dir_ / name).string(), dir_);
+    EXPECT_EQ(run.code, 2) << name;
+    EXPECT_EQ(run.err, "foldfill: error: --output: '" + (dir_ / name).string() +
+                           "': render writes PNG pictures only (a .png file) (see foldfill "
+                           "render --help)\n");
+    EXPECT_FALSE(fs::exists(dir_ / name));
+  }
+  const CliRun run = run_cli(
+      "render " + input.string() + " " + input.string() + " -o " + (dir_ / "p.PNG").string(), dir_);
+  EXPECT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(slurp(dir_ / "p.PNG").substr(1, 3), "PNG");
+}
+
+TEST(RenderLabel, DrawsTheTextInTheTopLeftCorner) {
+  Image image{200, 100, std::vector<std::uint8_t>(200 * 100 * 3, 128)};
+  draw_label(image, "input");
+  // Scale 1: 5 glyphs 6 pixels apart from (4, 4), on white.
+  const auto grey = [&](int x, int y) { return image.rgb[(y * image.width + x) * 3]; };
+  int dark = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      // The box: a margin of 2, then the text (29 x 7) with 2 more around it.
+      const bool in_box = x >= 2 && x < 2 + 2 + 29 + 2 && y >= 2 && y < 2 + 2 + 7 + 2;
+      if (in_box) {
+        EXPECT_TRUE(grey(x, y) == 255 || grey(x, y) == 40) << x << ", " << y;
+      } else {
+        EXPECT_EQ(grey(x, y), 128) << x << ", " << y;
+      }
+      dark += grey(x, y) == 40;
+    }
+  }
+  // "I": a bar of 5 pixels and two of 3: 11 pixels in the first glyph.
+  int first = 0;
+  for (int y = 4; y < 11; ++y)
+    for (int x = 4; x < 9; ++x) first += grey(x, y) == 40;
+  EXPECT_EQ(first, 11);
+  EXPECT_GT(dark, 40);
+  Image other{200, 100, std::vector<std::uint8_t>(200 * 100 * 3, 128)};
+  draw_label(other, "filled");
+  EXPECT_NE(other.rgb, image.rgb);
+}
+
+// Runs the CLI with its stderr on a terminal (a pseudo-terminal read here),
+// stdout to a file; returns what the terminal showed.
+CliRun run_cli_on_terminal(const std::string& arguments, const fs::path& dir) {
+  CliRun run;
+  int terminal = -1, program_side = -1;
+  if (openpty(&terminal, &program_side, nullptr, nullptr, nullptr) != 0) return run;
+  const std::string command = "exec " + std::string(FOLDFILL_CLI) + " " + arguments + " >" +
+                              (dir / "stdout.txt").string() + " </dev/null";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(program_side, STDERR_FILENO);
+    close(terminal);
+    close(program_side);
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(program_side);
+  char buffer[4096];
+  for (ssize_t n; (n = read(terminal, buffer, sizeof buffer)) > 0;) run.err.append(buffer, n);
+  close(terminal);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.out = slurp(dir / "stdout.txt");
+  return run;
+}
+
+TEST_F(CliTest, ProgressShowsTheStageHoleIterationAndTime) {
+  // The demo's patch (about 500 interior vertices) with two coarser levels:
+  // each minimisation is announced, and the one it started again after.
+  const CliRun run =
+      run_cli_on_terminal("demo " + (dir_ / "demo").string() + " --coarse-start 100", dir_);
+  ASSERT_EQ(run.code, 0) << run.err;
+  for (const std::string& words :
+       {std::string("\r\033[Khole 1 of 1 (loop 1), coarse level 2, folds first: iteration 1, "
+                    "energy "),
+        std::string("\r\033[Khole 1 of 1 (loop 1), coarse level 2, minimising (started again "
+                    "after coarse level 2, folds first): iteration 1, energy "),
+        std::string("\r\033[Khole 1 of 1 (loop 1), coarse level 1, minimising (started again "
+                    "after coarse level 2, minimising): iteration 1, energy "),
+        std::string("\r\033[Khole 1 of 1 (loop 1), minimising (started again after coarse "
+                    "level 1, minimising): iteration 1, energy ")})
+    EXPECT_NE(run.err.find(words), std::string::npos) << words << "\n" << run.err;
+  EXPECT_NE(run.err.find(" s\r\033[K"), std::string::npos) << run.err;
+  // The line is gone once the fill is done.
+  ASSERT_GE(run.err.size(), 4u);
+  EXPECT_EQ(run.err.substr(run.err.size() - 4), "\r\033[K") << run.err;
+  const CliRun quiet = run_cli_on_terminal("demo " + (dir_ / "demo").string() + " -q", dir_);
+  EXPECT_EQ(quiet.code, 0);
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
 }
 
 }  // namespace

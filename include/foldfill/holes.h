@@ -163,6 +163,9 @@ enum class ChoiceReason {
 // "not a disk boundary", "not named", "among the longest", "too many edges",
 // "too wide".
 const char* to_string(ChoiceReason reason);
+// An identifier for JSON: "is_a_hole", "named", "not_longest", "not_a_hole",
+// "not_a_disk", "not_named", "longest", "too_many_edges", "too_wide".
+const char* json_name(ChoiceReason reason);
 
 struct HoleChoice {
   std::vector<int> fill;              // loop ids to fill, ascending

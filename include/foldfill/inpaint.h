@@ -30,6 +30,11 @@ struct PrototypeWeights {
   double alpha = 0.1, beta = 0.003, mu = 0.01, step = 0.5;
 };
 
+// Sets energy.lambda (by energy.bending), energy.repulsion and solver.step
+// from `weights` for a hole of length scale `length_scale` (the mapping above).
+void apply_prototype_weights(const PrototypeWeights& weights, double length_scale,
+                             EnergyOptions& energy, SolverOptions& solver);
+
 // How a hole was closed: the fabric method where it applies, then the
 // fallback chain (see fill_holes).
 enum class FillMethod {
@@ -114,6 +119,16 @@ enum class StartKind {
 // "arap", "coarse_levels", "towards_membrane", "unguarded".
 const char* to_string(StartKind start);
 
+// What became of a hole chosen for filling.
+enum class HoleStatus {
+  Filled,     // a patch closes it
+  Failed,     // no method could fill it: left open, with the reason
+  Cancelled,  // the fill was cancelled (FillOptions::progress) before it was done: left open
+};
+
+// "filled", "failed", "cancelled".
+const char* to_string(HoleStatus status);
+
 // The indices [first, end) of a run of vertices or faces.
 struct IndexRange {
   int first = 0, end = 0;
@@ -123,6 +138,8 @@ struct IndexRange {
 struct HoleReport {
   int loop_id = 0;
   bool filled = false;
+  // Set on a hole left open because the fill was being cancelled.
+  bool cancelled = false;
   std::string reason;  // why it was not filled
   FillMethod method = FillMethod::Fabric;
   // Why each step of the chain before `method` was passed over, in order
@@ -167,9 +184,14 @@ struct HoleReport {
   double repulsion = 0;           // the repulsion weight the patch was minimised with
   double lambda = 0;              // the bending weight the patch was minimised with
   double flat_area = 0;           // area of the flat patch (mesh units)
+  double patch_area = 0;          // area of the new faces in the output (mesh units), any method
   double area_ratio_to_flat = 0;  // 3D patch area / flat patch area
   double length_scale = 0;        // the hole's unit (mean loop edge length)
   Mesh flat_strip, flat_patch;    // z = 0; only with FillOptions::keep_flat
+
+  HoleStatus status() const {
+    return filled ? HoleStatus::Filled : cancelled ? HoleStatus::Cancelled : HoleStatus::Failed;
+  }
 };
 
 struct FillReport {

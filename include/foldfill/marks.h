@@ -1,5 +1,6 @@
 // What a fill appended, and where: the marks of the new elements, the values
-// the carried per-element data takes on them, and each hole's index ranges.
+// the carried per-element data takes on them, and each hole's index ranges
+// and area.
 #pragma once
 
 #include <vector>
@@ -15,7 +16,7 @@ namespace foldfill {
 // filled hole's patch_vertex_count vertices, then the next hole's; the same
 // for faces). Sets:
 //  - report.holes[k].new_vertices / new_faces, the ranges of each filled
-//    hole's new elements;
+//    hole's new elements, and patch_area, the area of its new faces;
 //  - mesh.vertex_hole / face_hole: -1 for the input's elements, the loop id
 //    for new ones;
 //  - the values of the carried PLY properties on new elements: on a new

@@ -38,6 +38,13 @@ struct RenderOptions {
 // Orthographic, z-buffered, two-sided Lambert shading.
 Image render(const Mesh& mesh, const Camera& camera, const RenderOptions& options = {});
 
+// Writes `text` into the top-left corner of `image`, dark on a white box, in
+// a built-in 5 x 7 pixel font scaled with the image's height (a font pixel is
+// 1 + height / 240 pixels wide and high): letters (as capitals),
+// digits, space and - . : _ ( ); any other character is drawn as '?'. Text
+// wider than the image is cut off.
+void draw_label(Image& image, const std::string& text);
+
 // Images next to each other, left to right (heights must match).
 Image side_by_side(const std::vector<Image>& images);
 

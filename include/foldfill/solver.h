@@ -30,10 +30,21 @@ enum class StopReason {
 // "converged", "max_iterations", "time_limit", "cancelled", "diverged".
 const char* to_string(StopReason reason);
 
+// Which minimisation of a hole's fill a progress report comes from; each
+// counts its iterations from 0.
+enum class MinimisationStage {
+  Main,        // with the patch's own weights
+  FoldsFirst,  // the stiff one before it, which forms the large folds (stiff_start_lambda)
+};
+
 struct SolverProgress {
   int iteration = 0;
   double energy = 0;
   double gradient_norm = 0;
+  MinimisationStage stage = MinimisationStage::Main;
+  // 0: the patch itself; k > 0: its k-th coarser level (multilevel.h), the
+  // coarsest minimised first.
+  int coarse_level = 0;
 };
 
 struct SolverOptions {
