@@ -85,7 +85,7 @@ try {
   const pageBytes = statSync(page).size;
 
   const browser = await launch();
-  const firstFrames = [], loads = [];
+  const firstFrames = [], loads = [], steps = [];
   for (let run = 0; run < runs; ++run) {
     const tab = await browser.newPage();
     await tab.setViewport({width: 1280, height: 720});
@@ -98,6 +98,7 @@ try {
     loads.push((performance.now() - start) / 1000);
     // performance.now() in the page counts from its navigation's start.
     firstFrames.push(await tab.evaluate(() => window.foldfillView.firstFrameMs) / 1000);
+    steps.push(await tab.evaluate(() => window.foldfillView.timings));
     if (errors.length) throw new Error(`page errors: ${errors.join('; ')}`);
     await tab.close();
   }
@@ -108,6 +109,10 @@ try {
     first_frame_seconds: firstFrames.map((s) => +s.toFixed(3)),
     first_frame_seconds_median: +median(firstFrames).toFixed(3),
     goto_to_ready_seconds_median: +median(loads).toFixed(3),
+    // Milliseconds since navigation: script started (the HTML parsed), three.js
+    // imported, buffers decoded, meshes set up, first frame drawn.
+    steps_ms: steps.map((t) => Object.fromEntries(
+        Object.entries(t).map(([step, ms]) => [step, Math.round(ms)]))),
   }));
   console.log(`${triangles} triangles: page ${(pageBytes / 1e6).toFixed(1)} MB written in ` +
               `${writeSeconds.toFixed(2)} s; first frame ${median(firstFrames).toFixed(2)} s ` +

@@ -4,9 +4,12 @@
 // (#foldfill-three), imported from a blob: URL so that the page works from
 // file:// without any other file.
 
+// Milliseconds since navigation at each step of the start (the benchmark reads them).
+const timings = {script: performance.now()};
 const meta = JSON.parse(document.getElementById('foldfill-meta').textContent);
 const threeText = document.getElementById('foldfill-three').textContent;
 const THREE = await import(URL.createObjectURL(new Blob([threeText], {type: 'text/javascript'})));
+timings.three = performance.now();
 
 const BACKGROUND = 0xf4f4f2;
 const INPUT_COLOUR = 0xc9c4b8;
@@ -29,6 +32,7 @@ function decodeBase64(text) {
 }
 
 const blob = decodeBase64(document.getElementById('foldfill-blob').textContent).buffer;
+timings.decoded = performance.now();
 const ARRAY_TYPES = {float32: Float32Array, uint32: Uint32Array, uint8: Uint8Array};
 function bufferView(desc) {
   return new ARRAY_TYPES[desc.type](blob, desc.offset, desc.length);
@@ -239,6 +243,7 @@ renderer.setClearColor(BACKGROUND);
 renderer.setScissorTest(true);
 
 const panels = meta.meshes.map((desc, place) => new Panel(desc, place));
+timings.panels = performance.now();
 document.title = meta.title || document.title;
 document.getElementById('title').textContent = meta.title;
 
@@ -534,7 +539,7 @@ function draw() {
     // Waits for the GPU, so that the time is that of a frame drawn.
     const gl = renderer.getContext();
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
-    window.foldfillView.firstFrameMs = performance.now();
+    window.foldfillView.firstFrameMs = timings.firstFrame = performance.now();
     window.foldfillView.ready = true;
     document.body.dataset.ready = 'true';
   }
@@ -557,6 +562,7 @@ new ResizeObserver(requestRender).observe(stage);
 window.foldfillView = {
   ready: false,
   frames: 0,
+  timings,
   settings,
   screenBoxes() {
     const stageBox = stage.getBoundingClientRect();

@@ -36,6 +36,12 @@ const input = path.join(data, 'input.obj');
 const filledObj = path.join(data, 'filled.obj');
 const filledPly = path.join(data, 'filled.ply');
 run('fill', input, '-o', filledPly, '--quiet');
+const page = path.join(artefacts, 'view.html');
+const probe = spawnSync(binary, ['view', input, filledObj, '-o', page, '--report',
+                                 path.join(data, 'report.json')], {encoding: 'utf8'});
+if (probe.status !== 0 && /not available/.test(probe.stderr)) skip(probe.stderr.trim());
+assert.equal(probe.status, 0, probe.stderr);
+
 // A coarse torus with one square hole, and its fill (the two faces put
 // back, last): flat and smooth shading differ plainly on it.
 function writeTorus(file, withHole, filled) {
@@ -65,11 +71,6 @@ writeTorus(torusFilled, true, true);
 const torusPage = path.join(artefacts, 'view-torus.html');
 run('view', torus, torusFilled, '-o', torusPage);
 
-const page = path.join(artefacts, 'view.html');
-const probe = spawnSync(binary, ['view', input, filledObj, '-o', page, '--report',
-                                 path.join(data, 'report.json')], {encoding: 'utf8'});
-if (probe.status !== 0 && /not available/.test(probe.stderr)) skip(probe.stderr.trim());
-assert.equal(probe.status, 0, probe.stderr);
 
 let browser;
 before(async () => { browser = await launch(); });
