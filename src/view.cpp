@@ -3,13 +3,16 @@
 #include "foldfill/view.h"
 
 #include <algorithm>
-#include <array>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 
 #include "foldfill/error.h"
 #include "foldfill/holes.h"
