@@ -4,6 +4,7 @@
 //   foldfill fill IN... -o OUTDIR         fill several files or a folder (app/batch.cpp)
 //   foldfill demo OUTDIR                  fill a built-in folded sheet
 //   foldfill render IN FILLED -o PNG      picture of a mesh before and after
+//   foldfill view IN FILLED -o HTML       a page to look at them in the browser (app/view.cpp)
 //   foldfill help [COMMAND]               the same as --help
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -27,6 +28,7 @@
 #include "foldfill/report.h"
 #include "interrupt.h"
 #include "paths.h"
+#include "view.h"
 
 namespace fs = std::filesystem;
 using namespace foldfill;
@@ -505,6 +507,9 @@ int main(int argc, char** argv) {
   render_command->add_option("--height", render_args.height, "pixels")
       ->check(whole_number_in(16, 8192));
 
+  ViewArgs view_args;
+  CLI::App* view_command = add_view_command(app, view_args);
+
   install_interrupt_handlers();
   try {
     app.parse(argc, argv);
@@ -521,11 +526,12 @@ int main(int argc, char** argv) {
     if (*fill) return run_fill(fill_args);
     if (*demo) return run_demo(demo_dir, demo_args);
     if (*render_command) return run_render(render_args);
+    if (*view_command) return run_view(view_args);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // One line, like every error; the command's --help lists its options.
     std::string help = "foldfill --help";
-    for (const CLI::App* command : {holes, fill, demo, render_command}) {
+    for (const CLI::App* command : {holes, fill, demo, render_command, view_command}) {
       if (command->parsed()) help = "foldfill " + command->get_name() + " --help";
     }
     fmt::print(stderr, "foldfill: error: {} (see {})\n", usage_message(e), help);

@@ -606,6 +606,62 @@ TEST_F(CliTest, RenderOutputEqualToAnInputIsRefused) {
   EXPECT_TRUE(fs::is_symlink(dir_ / "link.png"));
 }
 
+// `view` of a grid and its fill: one page, with the report's figures; or,
+// in a build without three.js, the message that says so (then skipped).
+TEST_F(CliTest, ViewWritesOnePage) {
+  const fs::path input = dir_ / "grid.obj", output = dir_ / "out.ply";
+  const fs::path report = dir_ / "report.json", page = dir_ / "page.html";
+  write_text(input, grid_obj(8, {{3, 3}, {4, 3}}));
+  ASSERT_EQ(run_cli("fill " + input.string() + " -o " + output.string() + " --report " +
+                        report.string() + " --quiet",
+                    dir_)
+                .code,
+            0);
+  const CliRun run = run_cli("view " + input.string() + " " + output.string() + " -o " +
+                                 page.string() + " --report " + report.string(),
+                             dir_);
+  if (run.code == 2 && run.err.find("not available") != std::string::npos) {
+    EXPECT_FALSE(fs::exists(page));
+    GTEST_SKIP() << run.err;
+  }
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::string html = slurp(page);
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(html.find("id=\"foldfill-meta\""), std::string::npos);
+  EXPECT_NE(html.find("\"stop_reason\""), std::string::npos);
+  // Nothing loaded from elsewhere: the page works offline.
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+}
+
+TEST_F(CliTest, ViewOutputEqualToAnInputIsRefused) {
+  const fs::path input = dir_ / "grid.obj", report = dir_ / "report.json";
+  write_text(input, grid_with_hole_obj());
+  write_text(report, "{\"holes\": []}");
+  for (const fs::path& page : {input, report}) {
+    const CliRun run = run_cli(
+        "view " + input.string() + " --report " + report.string() + " -o " + page.string(), dir_);
+    expect_refusal(run, 2, page.string());
+  }
+  EXPECT_EQ(slurp(input), grid_with_hole_obj());
+  EXPECT_EQ(slurp(report), "{\"holes\": []}");
+}
+
+TEST_F(CliTest, ViewRefusesAReportThatIsNotOne) {
+  const fs::path input = dir_ / "grid.obj", report = dir_ / "notes.json";
+  const fs::path page = dir_ / "page.html";
+  write_text(input, grid_with_hole_obj());
+  write_text(report, "[1, 2");
+  CliRun run = run_cli(
+      "view " + input.string() + " --report " + report.string() + " -o " + page.string(), dir_);
+  if (run.code == 2 && run.err.find("not available") != std::string::npos) GTEST_SKIP() << run.err;
+  expect_refusal(run, 4, report.string());
+  EXPECT_FALSE(fs::exists(page));
+  run = run_cli("view " + input.string() + " --layout sideways -o " + page.string(), dir_);
+  EXPECT_EQ(run.code, 2) << run.err;
+  EXPECT_NE(run.err.find("--layout"), std::string::npos) << run.err;
+}
+
 // A fill that takes minutes (gradient descent on about 4,000 patch vertices)
 // but for its time limit.
 const char* const kSlowFill = " --solver gd --density 2 --max-iterations 1000000 --time-limit 30";
