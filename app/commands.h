@@ -9,16 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "exit_codes.h"
+#include "foldfill/fill.h"
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
 
 namespace foldfill::cli {
 
 class PathPlan;  // paths.h
-
-// Exit code of a batch in which some files failed (the library's own codes,
-// ErrorKind, stop at 10).
-constexpr int kBatchFailedExitCode = 11;
 
 // Options of the hole selection, shared by `holes` and `fill`.
 struct SelectionArgs {
@@ -32,8 +30,9 @@ struct SelectionArgs {
   // contradict each other (--keep-open with --holes or --near, --near with
   // --holes all or auto).
   void check() const;
-  // The selection for `mesh` (--max-hole-diameter in its units). Throws like check().
-  HoleSelection selection(const Mesh& mesh) const;
+  // Sets the selection of `request` (its HoleSelection and
+  // max_hole_diameter_edges). Throws like check().
+  void apply(FillRequest& request) const;
 };
 
 // The loop ids of a --holes list such as "0,2": each a whole non-negative
@@ -91,7 +90,7 @@ struct FileFill {
 using ProgressCallback = std::function<bool(int, const SolverProgress&)>;
 
 // The loops of `mesh` (named `source` in messages) and the ones `selection`
-// picks. Throws like find_boundary_loops and select_holes.
+// picks (the library's choose_holes). Throws like check() and choose_holes.
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection);
 
 // Fills the holes chosen in `fill` as `args` say, writes the mesh to `output`

@@ -10,13 +10,13 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "commands.h"
 #include "foldfill/error.h"
 #include "foldfill/file.h"
 #include "foldfill/io.h"
-#include "foldfill/liepa.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/report.h"
 #include "interrupt.h"
@@ -173,9 +173,10 @@ void SelectionArgs::check() const {
   }
 }
 
-HoleSelection SelectionArgs::selection(const Mesh& mesh) const {
+void SelectionArgs::apply(FillRequest& request) const {
   check();
-  HoleSelection s;
+  HoleSelection& s = request.selection;
+  s = HoleSelection{};
   if (keep_open >= 0) {
     s.mode = HoleSelection::Mode::KeepOpen;
     s.keep_open = keep_open;
@@ -191,8 +192,7 @@ HoleSelection SelectionArgs::selection(const Mesh& mesh) const {
       s.near.push_back({near[k], near[k + 1], near[k + 2]});
   }
   s.max_hole_size = max_hole_size;
-  if (max_hole_diameter > 0) s.max_hole_diameter = max_hole_diameter * mean_edge_length(mesh);
-  return s;
+  request.max_hole_diameter_edges = max_hole_diameter;
 }
 
 std::optional<std::vector<int>> parse_loop_ids(const std::string& list) {
@@ -227,41 +227,32 @@ std::vector<std::string> FileFill::warnings() const {
 }
 
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection) {
+  FillRequest request;
+  request.source = source;
+  selection.apply(request);
+  ChosenHoles chosen = foldfill::choose_holes(mesh, request);
   FileFill fill;
-  fill.loops = find_boundary_loops(mesh, source);
-  const HoleSelection chosen = selection.selection(mesh);
-  fill.choice = select_holes(fill.loops, chosen, source);
-  // --keep-open goes by length alone; say so when the classifier tells
-  // another story (a hole longer than the cloth's edge, a sleeve's ends).
-  if (chosen.mode == HoleSelection::Mode::KeepOpen) {
-    HoleSelection by_kind = chosen;
-    by_kind.mode = HoleSelection::Mode::Default;
-    const std::vector<int> holes = select_holes(fill.loops, by_kind, source).fill;
-    if (holes != fill.choice.fill) {
-      fill.choice.warnings.push_back(
-          source + ": --keep-open " + std::to_string(chosen.keep_open) +
-          " fills other loops than the default, which fills the holes (" +
-          (holes.empty() ? std::string("none") : fmt::format("{}", fmt::join(holes, ", "))) +
-          "; see `foldfill holes`)");
-    }
-  }
+  fill.loops = std::move(chosen.loops);
+  fill.choice = std::move(chosen.choice);
   return fill;
 }
 
 void fill_and_write(const Mesh& mesh, const std::string& source, const std::string& output,
                     const std::string& flat_dir, const FillArgs& args,
                     const ProgressCallback& progress, FileFill& fill) {
-  FillOptions options = make_fill_options(args);
-  options.progress = [&](int id, const SolverProgress& p) {
+  FillRequest request;
+  request.source = source;
+  request.algorithm = args.method == "liepa" ? FillAlgorithm::Liepa : FillAlgorithm::Fabric;
+  request.options = make_fill_options(args);
+  request.options.progress = [&](int id, const SolverProgress& p) {
     return !interrupted() && (!progress || progress(id, p));
   };
-  FillResult result;
-  if (args.method == "liepa") {
-    result = fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source, options.obstacles);
-  } else {
-    const WatchedFill watched;
-    result = fill_holes(mesh, fill.loops, fill.choice.fill, options, source);
-  }
+  // Only the fabric fill watches the progress callback: a signal during the
+  // smooth one ends the process at once.
+  std::optional<WatchedFill> watched;
+  if (request.algorithm == FillAlgorithm::Fabric) watched.emplace();
+  FillOutput result = foldfill::fill(mesh, {fill.loops, fill.choice}, request);
+  watched.reset();
   const Writing writing;  // nothing is written once a signal came
   WriteOptions write_options;
   write_options.binary = !args.ascii;
@@ -272,11 +263,9 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
 
 nlohmann::json file_report(const FileFill& fill, const std::string& source,
                            const std::string& output) {
-  nlohmann::json report = to_json(fill.report);
+  nlohmann::json report = report_json(fill.report, fill.choice);
   report["input"] = source;
   report["output"] = output;
-  report["filled_loops"] = fill.choice.fill;
-  report["left_open_loops"] = fill.choice.left_open;
   report["warnings"] = fill.warnings();
   return report;
 }
@@ -338,7 +327,7 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
     const Writing writing;
     write_file_atomically(args.report, report.dump(1) + "\n");
   }
-  return fill.failed_hole_count() > 0 ? static_cast<int>(ErrorKind::FillFailed) : 0;
+  return fill.failed_hole_count() > 0 ? exit_code(ErrorKind::FillFailed) : 0;
 }
 
 }  // namespace foldfill::cli
