@@ -6,7 +6,9 @@ cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev libboost-dev
           libpng-dev libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
-          libsuitesparse-dev libopenblas0-serial)
+          libsuitesparse-dev libopenblas0-serial
+          pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module and its tests
+          parallel)                                              # the batch recipe's test
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
