@@ -178,7 +178,7 @@ FileOutcome outcome_of(const FileFill& fill, const std::string& source) {
     outcome.status = FileStatus::Filled;
   } else {
     outcome.status = outcome.filled_holes > 0 ? FileStatus::PartlyFilled : FileStatus::Failed;
-    outcome.exit_code = static_cast<int>(ErrorKind::FillFailed);
+    outcome.exit_code = exit_code(ErrorKind::FillFailed);
   }
   return outcome;
 }
@@ -206,10 +206,9 @@ FileOutcome fill_batch_item(const BatchItem& item, const FillArgs& args) {
     outcome.interrupted = true;
     return outcome;
   } catch (const Error& e) {
-    outcome = failure(e.what(), e.exit_code());
+    outcome = failure(e.what(), exit_code(e.kind()));
   } catch (const std::exception& e) {
-    outcome = failure(item.input + ": internal error: " + e.what(),
-                      static_cast<int>(ErrorKind::Internal));
+    outcome = failure(item.input + ": internal error: " + e.what(), exit_code(ErrorKind::Internal));
   }
   if (!outcome.written) outcome.report = {{"input", item.input}, {"output", nullptr}};
   outcome.report["status"] = status_name(outcome.status);

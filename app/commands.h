@@ -9,16 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "exit_codes.h"
+#include "foldfill/fill.h"
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
 
 namespace foldfill::cli {
 
 class PathPlan;  // paths.h
-
-// Exit code of a batch in which some files failed (the library's own codes,
-// ErrorKind, stop at 10).
-constexpr int kBatchFailedExitCode = 11;
 
 // Options of the hole selection, shared by `holes` and `fill`.
 struct SelectionArgs {
@@ -32,8 +30,9 @@ struct SelectionArgs {
   // contradict each other (--keep-open with --holes or --near, --near with
   // --holes all or auto).
   void check() const;
-  // The selection for `mesh` (--max-hole-diameter in its units). Throws like check().
-  HoleSelection selection(const Mesh& mesh) const;
+  // Sets the selection of `request` (its HoleSelection and
+  // max_hole_diameter_edges). Throws like check().
+  void apply(FillRequest& request) const;
 };
 
 // The loop ids of a --holes list such as "0,2": each a whole non-negative
@@ -83,7 +82,7 @@ struct FileFill {
   HoleSelection selection;  // as applied to this mesh
   HoleChoice choice;
   FillReport report;
-  // The options the fill ran with, for the report (effective_options).
+  // The options the fill ran with, for the report (options_json).
   nlohmann::json options;
   int input_vertices = 0, input_faces = 0, output_vertices = 0, output_faces = 0;
 
@@ -95,7 +94,7 @@ struct FileFill {
 using ProgressCallback = std::function<bool(int, const SolverProgress&)>;
 
 // The loops of `mesh` (named `source` in messages) and the ones `selection`
-// picks. Throws like find_boundary_loops and select_holes.
+// picks (the library's choose_holes). Throws like check() and choose_holes.
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection);
 
 // Fills the holes chosen in `fill` as `args` say, writes the mesh to `output`
@@ -111,7 +110,6 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
 // The options of a fill as its report gives them (docs/report.md,
 // "options"): the fabric method's parameters after the prototype's mapping
 // (null with --method liepa, which has none), the method and `selection`.
-nlohmann::json effective_options(const FillArgs& args, const HoleSelection& selection);
 
 // The JSON report of one filled file (docs/report.md).
 nlohmann::json file_report(const FileFill& fill, const std::string& source,

@@ -11,13 +11,13 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "commands.h"
 #include "foldfill/error.h"
 #include "foldfill/file.h"
 #include "foldfill/io.h"
-#include "foldfill/liepa.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/report.h"
 #include "interrupt.h"
@@ -101,22 +101,6 @@ FillOptions make_fill_options(const FillArgs& args) {
   options.obstacles = args.loaded_obstacles;
   options.keep_flat = !args.flat_dir.empty();
   return options;
-}
-
-const char* selection_mode_name(HoleSelection::Mode mode) {
-  switch (mode) {
-    case HoleSelection::Mode::Default:
-      return "default";
-    case HoleSelection::Mode::All:
-      return "all";
-    case HoleSelection::Mode::Ids:
-      return "ids";
-    case HoleSelection::Mode::Near:
-      return "near";
-    case HoleSelection::Mode::KeepOpen:
-      return "keep_open";
-  }
-  return "default";
 }
 
 void write_flat_meshes(const FillReport& report, const std::string& dir) {
@@ -221,9 +205,10 @@ void SelectionArgs::check() const {
   }
 }
 
-HoleSelection SelectionArgs::selection(const Mesh& mesh) const {
+void SelectionArgs::apply(FillRequest& request) const {
   check();
-  HoleSelection s;
+  HoleSelection& s = request.selection;
+  s = HoleSelection{};
   if (keep_open >= 0) {
     s.mode = HoleSelection::Mode::KeepOpen;
     s.keep_open = keep_open;
@@ -239,8 +224,7 @@ HoleSelection SelectionArgs::selection(const Mesh& mesh) const {
       s.near.push_back({near[k], near[k + 1], near[k + 2]});
   }
   s.max_hole_size = max_hole_size;
-  if (max_hole_diameter > 0) s.max_hole_diameter = max_hole_diameter * mean_edge_length(mesh);
-  return s;
+  request.max_hole_diameter_edges = max_hole_diameter;
 }
 
 std::optional<std::vector<int>> parse_loop_ids(const std::string& list) {
@@ -275,43 +259,34 @@ std::vector<std::string> FileFill::warnings() const {
 }
 
 FileFill choose_holes(const Mesh& mesh, const std::string& source, const SelectionArgs& selection) {
+  FillRequest request;
+  request.source = source;
+  selection.apply(request);
+  ChosenHoles chosen = foldfill::choose_holes(mesh, request);
   FileFill fill;
-  fill.loops = find_boundary_loops(mesh, source);
-  const HoleSelection chosen = selection.selection(mesh);
-  fill.selection = chosen;
-  fill.choice = select_holes(fill.loops, chosen, source);
-  // --keep-open goes by length alone; say so when the classifier tells
-  // another story (a hole longer than the cloth's edge, a sleeve's ends).
-  if (chosen.mode == HoleSelection::Mode::KeepOpen) {
-    HoleSelection by_kind = chosen;
-    by_kind.mode = HoleSelection::Mode::Default;
-    const std::vector<int> holes = select_holes(fill.loops, by_kind, source).fill;
-    if (holes != fill.choice.fill) {
-      fill.choice.warnings.push_back(
-          source + ": --keep-open " + std::to_string(chosen.keep_open) +
-          " fills other loops than the default, which fills the holes (" +
-          (holes.empty() ? std::string("none") : fmt::format("{}", fmt::join(holes, ", "))) +
-          "; see `foldfill holes`)");
-    }
-  }
+  fill.loops = std::move(chosen.loops);
+  fill.choice = std::move(chosen.choice);
+  fill.selection = chosen.selection;
   return fill;
 }
 
 void fill_and_write(const Mesh& mesh, const std::string& source, const std::string& output,
                     const std::string& flat_dir, const FillArgs& args,
                     const ProgressCallback& progress, FileFill& fill) {
-  FillOptions options = make_fill_options(args);
-  options.progress = [&](int id, const SolverProgress& p) {
+  FillRequest request;
+  request.source = source;
+  request.algorithm = args.method == "liepa" ? FillAlgorithm::Liepa : FillAlgorithm::Fabric;
+  request.options = make_fill_options(args);
+  request.options.progress = [&](int id, const SolverProgress& p) {
     return !interrupted() && (!progress || progress(id, p));
   };
-  FillResult result;
-  if (args.method == "liepa") {
-    result = fill_holes_liepa(mesh, fill.loops, fill.choice.fill, source, options.obstacles);
-  } else {
-    const WatchedFill watched;
-    result = fill_holes(mesh, fill.loops, fill.choice.fill, options, source);
-  }
-  fill.options = effective_options(args, fill.selection);
+  // Only the fabric fill watches the progress callback: a signal during the
+  // smooth one ends the process at once.
+  std::optional<WatchedFill> watched;
+  if (request.algorithm == FillAlgorithm::Fabric) watched.emplace();
+  FillOutput result = foldfill::fill(mesh, {fill.loops, fill.choice, fill.selection}, request);
+  watched.reset();
+  fill.options = options_json(request, fill.selection);
   fill.input_vertices = mesh.vertex_count();
   fill.input_faces = mesh.face_count();
   fill.output_vertices = result.mesh.vertex_count();
@@ -324,44 +299,13 @@ void fill_and_write(const Mesh& mesh, const std::string& source, const std::stri
   fill.report = std::move(result.report);
 }
 
-nlohmann::json effective_options(const FillArgs& args, const HoleSelection& selection) {
-  nlohmann::json options = to_json(make_fill_options(args));
-  if (args.method == "liepa") {
-    for (auto item : options.items())
-      if (item.key() != "obstacles") item.value() = nullptr;
-  }
-  options["method"] = args.method;
-  const bool keep_open = selection.mode == HoleSelection::Mode::KeepOpen;
-  nlohmann::json near = nlohmann::json::array();
-  for (const Vec3& point : selection.near) near.push_back(point);
-  options["selection"] = {
-      {"mode", selection_mode_name(selection.mode)},
-      {"holes", selection.ids},
-      {"near", near},
-      {"keep_open", keep_open ? nlohmann::json(selection.keep_open) : nlohmann::json(nullptr)},
-      {"max_hole_size", selection.max_hole_size > 0 ? nlohmann::json(selection.max_hole_size)
-                                                    : nlohmann::json(nullptr)},
-      {"max_hole_diameter", selection.max_hole_diameter > 0
-                                ? nlohmann::json(selection.max_hole_diameter)
-                                : nlohmann::json(nullptr)},
-  };
-  return options;
-}
-
 nlohmann::json file_report(const FileFill& fill, const std::string& source,
                            const std::string& output) {
-  nlohmann::json report = to_json(fill.report);
-  report["foldfill_version"] = version();
+  nlohmann::json report =
+      report_json(fill.report, fill.loops, fill.choice, fill.options,
+                  {fill.input_vertices, fill.input_faces, fill.output_vertices, fill.output_faces});
   report["input"] = source;
   report["output"] = output;
-  report["counts"] = {{"input_vertices", fill.input_vertices},
-                      {"input_faces", fill.input_faces},
-                      {"boundary_loops", fill.loops.size()},
-                      {"output_vertices", fill.output_vertices},
-                      {"output_faces", fill.output_faces}};
-  report["options"] = fill.options;
-  report["filled_loops"] = filled_loops(fill.report);
-  report["left_open_loops"] = left_open_loops(fill.loops, fill.choice, fill.report);
   report["warnings"] = fill.warnings();
   return report;
 }
@@ -423,7 +367,7 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
     const Writing writing;
     write_file_atomically(args.report, report.dump(1) + "\n");
   }
-  return fill.failed_hole_count() > 0 ? static_cast<int>(ErrorKind::FillFailed) : 0;
+  return fill.failed_hole_count() > 0 ? exit_code(ErrorKind::FillFailed) : 0;
 }
 
 }  // namespace foldfill::cli

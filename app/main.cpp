@@ -127,45 +127,21 @@ std::string format_vec(const Vec3& v) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0], v[1], v[2]);
 }
 
-// A JSON number, or null where it is infinite (no curvature to predict from).
-nlohmann::json finite_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
-
 int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
   args.check();
   std::vector<std::string> read_warnings;
   const Mesh mesh = read_mesh(path, &read_warnings);
   for (const std::string& warning : read_warnings)
     fmt::print(stderr, "foldfill: warning: {}\n", warning);
-  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, path);
-  const HoleChoice choice = select_holes(loops, args.selection(mesh), path);
+  const FileFill chosen = choose_holes(mesh, path, args);
+  const std::vector<BoundaryLoop>& loops = chosen.loops;
+  const HoleChoice& choice = chosen.choice;
   auto is_outer = [&](int id) {
     return !std::binary_search(choice.fill.begin(), choice.fill.end(), id);
   };
   if (json) {
     nlohmann::json out = {{"file", path}, {"loops", nlohmann::json::array()}};
-    for (const BoundaryLoop& loop : loops) {
-      out["loops"].push_back({{"id", loop.id},
-                              {"vertex_count", loop.vertices.size()},
-                              {"length", loop.length},
-                              {"centroid", loop.centroid},
-                              {"bbox_diagonal", loop.bbox_diagonal},
-                              {"mean_edge_length", loop.mean_edge_length},
-                              {"kind", json_name(loop.kind)},
-                              {"kind_reason", json_name(loop.kind_reason)},
-                              {"explanation", explain_kind(loop)},
-                              {"outer", is_outer(loop.id)},
-                              {"turning", loop.turning},
-                              {"curvature_density", loop.curvature_density},
-                              {"predicted_area", finite_or_null(loop.predicted_area)},
-                              {"component_area", loop.component_area},
-                              {"hole_like", turns_like_a_hole(loop)},
-                              {"disk", loop.is_disk},
-                              {"reason", loop.reason},
-                              {"split_at", loop.split_at},
-                              {"vertices", loop.vertices}});
-    }
+    for (const BoundaryLoop& loop : loops) out["loops"].push_back(loop_json(loop, choice));
     fmt::print("{}\n", out.dump(1));
     return 0;
   }
@@ -535,16 +511,16 @@ int main(int argc, char** argv) {
       if (command->parsed()) help = "foldfill " + command->get_name() + " --help";
     }
     fmt::print(stderr, "foldfill: error: {} (see {})\n", usage_message(e), help);
-    return static_cast<int>(ErrorKind::Usage);
+    return exit_code(ErrorKind::Usage);
   } catch (const Interrupted& e) {
     fmt::print(stderr, "foldfill: error: {}\n", e.what());
     return kInterruptedExitCode;
   } catch (const Error& e) {
     fmt::print(stderr, "foldfill: error: {}\n", e.what());
-    return e.exit_code();
+    return exit_code(e.kind());
   } catch (const std::exception& e) {
     fmt::print(stderr, "foldfill: internal error: {}\n", e.what());
-    return static_cast<int>(ErrorKind::Internal);
+    return exit_code(ErrorKind::Internal);
   }
   return 0;
 }

@@ -284,6 +284,10 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
   });
 }
 
+void validate_mesh(const Mesh& mesh, const std::string& source) {
+  io_detail::validate_mesh(mesh, source);
+}
+
 std::string serialize_mesh(const Mesh& mesh, MeshFormat format, const WriteOptions& options) {
   io_detail::validate_mesh(mesh, "mesh");
   io_detail::ByteSink sink;

@@ -40,6 +40,13 @@ Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& so
 // cannot be opened, otherwise as parse_mesh.
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
+// Checks a mesh built in memory as parse_mesh checks what it read: finite
+// coordinates, face indices in range, three distinct vertices per face, the
+// per-element data of one entry per element. Throws
+// Error(NonFiniteCoordinate) or Error(BadFace) naming `source` and the vertex
+// or face (counted from 0).
+void validate_mesh(const Mesh& mesh, const std::string& source = "mesh");
+
 struct WriteOptions {
   bool binary = true;  // PLY and STL: binary (PLY little endian) or ASCII
 };
