@@ -3,6 +3,7 @@
 // sliver, and nothing crossed. The surfaces are generated in code
 // (test_surfaces.h); the holes to fill are the ones they were cut with.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <map>
@@ -68,6 +69,23 @@ TEST(EveryHole, SphereWithALargeCapAndSmallHoles) {
   const std::map<FillMethod, int> methods = expect_every_hole_closed(make_holed_sphere());
   // A sphere is not developable: no hole of it is flattened.
   EXPECT_EQ(methods.count(FillMethod::Fabric), 0u);
+}
+
+// Holes filled by every step of the chain (fabric, smooth, triangulation)
+// in parallel give the same output whatever the thread count.
+TEST(EveryHole, TheBlobsFillDoesNotDependOnTheThreadCount) {
+  const HoledSurface blob = make_holed_blob();
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(blob.mesh);
+  std::vector<int> holes;
+  for (int v : blob.hole_vertices) holes.push_back(loop_through(loops, v));
+  omp_set_num_threads(1);
+  const FillResult serial = fill_holes(blob.mesh, loops, holes);
+  omp_set_num_threads(2);
+  const FillResult parallel = fill_holes(blob.mesh, loops, holes);
+  EXPECT_EQ(serial.mesh.positions, parallel.mesh.positions);
+  EXPECT_EQ(serial.mesh.faces, parallel.mesh.faces);
+  for (size_t h = 0; h < serial.report.holes.size(); ++h)
+    EXPECT_EQ(serial.report.holes[h].method, parallel.report.holes[h].method);
 }
 
 TEST(EveryHole, TorusOutsideInsideAndTop) { expect_every_hole_closed(make_holed_torus()); }
