@@ -25,6 +25,7 @@ bl_info = {
 }
 
 import importlib
+import inspect
 import os
 import sys
 import threading
@@ -155,7 +156,7 @@ so that the folds of the cloth continue through them"""
             return {'CANCELLED'}
         seconds = time.perf_counter() - start
 
-        added_vertices, added_faces = self._write(mesh, bm, result, len(vertices))
+        added_vertices, added_faces = self._write(context, mesh, bm, result, len(vertices))
         self._summarise(result, added_vertices, added_faces, seconds)
         return {'FINISHED'}
 
@@ -179,7 +180,7 @@ so that the folds of the cloth continue through them"""
         is, and this thread turns it into the status bar's progress.
         """
         share = {hole: k for k, hole in enumerate(targets)}
-        iterations = foldfill._foldfill.DEFAULT_MAX_ITERATIONS
+        iterations = inspect.signature(foldfill.fill).parameters["max_iterations"].default
         state = {"value": 0.0, "result": None, "error": None}
 
         def progress(hole, iteration, energy):
@@ -211,7 +212,7 @@ so that the folds of the cloth continue through them"""
         return state["result"]
 
     @staticmethod
-    def _write(mesh, bm, result, original_count):
+    def _write(context, mesh, bm, result, original_count):
         """Append the result's new vertices and faces to `bm`; select the new faces alone."""
         new_verts = [bm.verts.new(co) for co in result.vertices[original_count:].tolist()]
         bm.verts.ensure_lookup_table()
@@ -228,7 +229,7 @@ so that the folds of the cloth continue through them"""
         # vertex mode an original face with its three vertices on the hole's
         # rim would become selected as well).
         bm.select_mode = {'FACE'}
-        bpy.context.tool_settings.mesh_select_mode = (False, False, True)
+        context.tool_settings.mesh_select_mode = (False, False, True)
         bm.select_flush_mode()
         bm.verts.index_update()
         bm.faces.index_update()
