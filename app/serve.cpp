@@ -402,8 +402,8 @@ int run_serve(const ServeArgs& args) {
                 "(libcpp-httplib-dev) or three.js (bash scripts/setup.sh, then build again)");
   }
   Server server;
-  if (!args.mesh.empty())
-    server.open(read_file(args.mesh), fs::path(args.mesh).filename().string());
+  // Named by the path as given, so that its errors read as the CLI's.
+  if (!args.mesh.empty()) server.open(read_file(args.mesh), args.mesh);
   const int port = server.bind(args.port);
   if (port < 0)
     throw Error(ErrorKind::Usage, fmt::format("cannot listen on 127.0.0.1:{}", args.port));
