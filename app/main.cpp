@@ -5,6 +5,7 @@
 //   foldfill demo OUTDIR                  fill a built-in folded sheet
 //   foldfill render IN FILLED -o PNG      picture of a mesh before and after
 //   foldfill view IN FILLED -o HTML       a page to look at them in the browser (app/view.cpp)
+//   foldfill serve [MESH] [--port 8080]   a local web app to fill in the browser (app/serve.cpp)
 //   foldfill help [COMMAND]               the same as --help
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -28,6 +29,7 @@
 #include "foldfill/report.h"
 #include "interrupt.h"
 #include "paths.h"
+#include "serve.h"
 #include "view.h"
 
 namespace fs = std::filesystem;
@@ -429,7 +431,7 @@ int main(int argc, char** argv) {
   CLI::App* help_command =
       app.add_subcommand("help", "the same as --help; `help COMMAND`: that command's --help");
   help_command->add_option("command", help_topic, "a command")
-      ->check(CLI::IsMember({"holes", "fill", "demo", "render"}));
+      ->check(CLI::IsMember({"holes", "fill", "demo", "render", "view", "serve"}));
 
   std::string holes_path;
   SelectionArgs holes_selection;
@@ -485,6 +487,8 @@ int main(int argc, char** argv) {
 
   ViewArgs view_args;
   CLI::App* view_command = add_view_command(app, view_args);
+  ServeArgs serve_args;
+  CLI::App* serve_command = add_serve_command(app, serve_args);
 
   install_interrupt_handlers();
   try {
@@ -503,11 +507,13 @@ int main(int argc, char** argv) {
     if (*demo) return run_demo(demo_dir, demo_args);
     if (*render_command) return run_render(render_args);
     if (*view_command) return run_view(view_args);
+    if (*serve_command) return run_serve(serve_args);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // One line, like every error; the command's --help lists its options.
     std::string help = "foldfill --help";
-    for (const CLI::App* command : {holes, fill, demo, render_command, view_command}) {
+    for (const CLI::App* command :
+         {holes, fill, demo, render_command, view_command, serve_command}) {
       if (command->parsed()) help = "foldfill " + command->get_name() + " --help";
     }
     fmt::print(stderr, "foldfill: error: {} (see {})\n", usage_message(e), help);

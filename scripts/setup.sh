@@ -9,6 +9,7 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake make libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev libboost-dev
           libpng-dev libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
           libsuitesparse-dev libopenblas0-serial chromium
+          libcpp-httplib-dev                                     # the server of `serve`
           pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module and its tests
           parallel                                               # the batch recipe's test
           blender)                                               # the Blender add-on's test

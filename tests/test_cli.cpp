@@ -1501,7 +1501,7 @@ TEST_F(CliTest, VersionAndHelpCommand) {
   EXPECT_EQ(help_command.code, 0) << help_command.err;
   EXPECT_EQ(help_command.out, help.out);
   EXPECT_NE(help.out.find("help"), std::string::npos) << help.out;
-  for (const char* command : {"fill", "holes", "demo", "render"}) {
+  for (const char* command : {"fill", "holes", "demo", "render", "view", "serve"}) {
     const CliRun topic = run_cli(std::string("help ") + command, dir_);
     EXPECT_EQ(topic.code, 0) << topic.err;
     EXPECT_EQ(topic.out, run_cli(std::string(command) + " --help", dir_).out) << command;
