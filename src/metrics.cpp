@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "foldfill/error.h"
+#include "foldfill/vec3.h"
 #include "triangle_geometry.h"
 
 namespace foldfill {
@@ -24,21 +25,13 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-
 double triangle_area(const std::vector<Vec3>& p, const Tri& f) {
   return 0.5 * norm(cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]])));
 }
 
 // Interior angle at corner k of face f.
 double corner_angle(const std::vector<Vec3>& p, const Tri& f, int k) {
-  const Vec3 a = sub(p[f[(k + 1) % 3]], p[f[k]]), b = sub(p[f[(k + 2) % 3]], p[f[k]]);
-  return std::atan2(norm(cross(a, b)), dot(a, b));
+  return foldfill::corner_angle(p[f[k]], p[f[(k + 1) % 3]], p[f[(k + 2) % 3]]);
 }
 
 Vec3 face_normal(const std::vector<Vec3>& p, const Tri& f) {
