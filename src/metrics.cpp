@@ -214,10 +214,10 @@ class BoxGrid {
   }
 
   // Cells 1.25 times as wide as the box extent (largest side) that 90% of
-  // the boxes do not exceed: a few long faces (the Curtain's strip: 5.1
-  // against 1.4) would otherwise make the cells, and the pairs tested in
-  // them, several times too many. Best of the widths tried, by instructions
-  // on the reference cases' ARAP starts.
+  // the boxes do not exceed: a few long faces (a strip's faces can be several
+  // times longer than the patch's) would otherwise make the cells, and the
+  // pairs tested in them, several times too many. The best of the widths
+  // tried on the reference cases.
   static constexpr double kTypicalQuantile = 0.9, kTypicalWidth = 1.25;
   // ... but no box overlaps more than 5 cells per axis,
   static constexpr double kMostCellsPerAxis = 4;
@@ -233,10 +233,9 @@ class BoxGrid {
 // the cells of a BoxGrid it overlaps (a counting sort by cell), and a pair is
 // visited in the one cell that holds the low corner of the boxes'
 // intersection, which both boxes overlap. A fill's faces are all of about one
-// size, so that a cell holds few boxes: with CGAL's box_self_intersection_d
-// (a segment tree, used before) the count took 6.3 to 7.1 instead of 3.3 ms
-// on the reference curtain's ARAP start (5338 faces), whose exact tests take
-// about 2 ms (docs/benchmarks.md).
+// size, so that a cell holds few boxes, and this grid finds the pairs in
+// less time than CGAL's box_self_intersection_d (a segment tree), which is
+// made for boxes of any sizes (docs/benchmarks.md).
 template <typename Visit>
 void for_each_overlapping_pair(const std::vector<FaceBox>& boxes, Visit visit) {
   const BoxGrid grid(boxes);
