@@ -42,6 +42,8 @@
 #include "foldfill/io.h"
 #include "foldfill/liepa.h"
 #include "foldfill/obstacles.h"
+#include "support/loops.h"
+#include "support/reference_cases.h"
 
 namespace fs = std::filesystem;
 using namespace foldfill;
@@ -62,14 +64,6 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-int loop_containing(const std::vector<BoundaryLoop>& loops, int vertex) {
-  for (const BoundaryLoop& loop : loops) {
-    if (std::find(loop.vertices.begin(), loop.vertices.end(), vertex) != loop.vertices.end())
-      return loop.id;
-  }
-  return -1;
-}
-
 nlohmann::json read_json(const fs::path& path) {
   std::ifstream in(path);
   return in ? nlohmann::json::parse(in) : nlohmann::json();
@@ -77,23 +71,19 @@ nlohmann::json read_json(const fs::path& path) {
 
 std::vector<Case> reference_cases(const fs::path& shared) {
   std::vector<Case> cases;
-  const fs::path dir = shared / "data" / "reference";
-  const nlohmann::json manifest = read_json(dir / "cases.json");
-  if (manifest.is_null()) return cases;
-  for (const auto& c : manifest["cases"]) {
+  for (const auto& c : foldfill::testing::read_reference_cases(shared / "data" / "reference")) {
     Case k;
-    k.name = c["file"].get<std::string>();
-    k.mesh = read_mesh((dir / k.name).string());
+    k.name = c.file;
+    k.mesh = read_mesh(c.path.string());
     k.loops = find_boundary_loops(k.mesh, k.name);
-    k.hole = loop_containing(k.loops, c["hole_vertex"]);
+    k.hole = foldfill::testing::loop_through(k.loops, c.hole_vertex);
     PrototypeWeights weights;
-    weights.alpha = c["prototype"]["alpha"];
-    weights.beta = c["prototype"]["beta"];
-    weights.mu = c["prototype"]["mu"];
+    weights.alpha = c.alpha;
+    weights.beta = c.beta;
+    weights.mu = c.mu;
     k.options.prototype = weights;
-    if (c["prototype"]["bending"] == "two_ring") k.options.energy.bending = BendingModel::TwoRing;
-    k.options.obstacles =
-        parse_obstacles(nlohmann::json{{"obstacles", c["obstacles"]}}.dump(), k.name);
+    if (c.two_ring) k.options.energy.bending = BendingModel::TwoRing;
+    k.options.obstacles = foldfill::testing::reference_obstacles(c);
     // The same hole at the defaults, what users run (with its obstacles).
     Case defaults = k;
     defaults.name += " (defaults)";
@@ -117,7 +107,8 @@ std::vector<Case> cloth_cases(const fs::path& shared) {
     k.mesh = read_mesh((dir / (k.name + "_hole.obj")).string());
     k.loops = find_boundary_loops(k.mesh, k.name);
     const nlohmann::json meta = read_json(dir / (k.name + ".json"));
-    k.hole = loop_containing(k.loops, meta["hole_boundary"]["loop_hole_indices"][0]);
+    k.hole =
+        foldfill::testing::loop_through(k.loops, meta["hole_boundary"]["loop_hole_indices"][0]);
     cases.push_back(std::move(k));
   }
   return cases;

@@ -17,6 +17,7 @@
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
 #include "foldfill/triangulate.h"
+#include "support/reference_cases.h"
 
 namespace {
 
@@ -40,11 +41,8 @@ nlohmann::json read_json(const fs::path& path) {
 
 std::vector<Case> reference_cases(const fs::path& folder) {
   std::vector<Case> cases;
-  const nlohmann::json listing = read_json(folder / "cases.json");
-  for (const auto& entry : listing["cases"]) {
-    const std::string file = entry["file"];
-    cases.push_back({file, folder / file, entry["hole_vertex"].get<int>(), std::nullopt});
-  }
+  for (const auto& entry : foldfill::testing::read_reference_cases(folder))
+    cases.push_back({entry.file, entry.path, entry.hole_vertex, std::nullopt});
   return cases;
 }
 

@@ -43,6 +43,8 @@
 #include "foldfill/metrics.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/render.h"
+#include "support/loops.h"
+#include "support/reference_cases.h"
 
 namespace fs = std::filesystem;
 using namespace foldfill;
@@ -126,14 +128,6 @@ struct CaseResult {
   std::string picture;        // file name, when written
 };
 
-int loop_containing(const std::vector<BoundaryLoop>& loops, int vertex) {
-  for (const BoundaryLoop& loop : loops) {
-    if (std::find(loop.vertices.begin(), loop.vertices.end(), vertex) != loop.vertices.end())
-      return loop.id;
-  }
-  return -1;
-}
-
 std::vector<Case> cloth_cases(const fs::path& dir) {
   std::vector<Case> cases;
   std::ifstream manifest(dir / "manifest.json");
@@ -147,7 +141,8 @@ std::vector<Case> cloth_cases(const fs::path& dir) {
     c.loops = find_boundary_loops(c.mesh, c.name);
     std::ifstream meta_file(stem + ".json");
     const nlohmann::json meta = nlohmann::json::parse(meta_file);
-    c.hole = loop_containing(c.loops, meta["hole_boundary"]["loop_hole_indices"][0]);
+    c.hole =
+        foldfill::testing::loop_through(c.loops, meta["hole_boundary"]["loop_hole_indices"][0]);
     Truth truth;
     truth.full = read_mesh(stem + "_gt.obj");
     truth.hole_to_full = meta["hole_to_gt"].get<std::vector<int>>();
@@ -166,21 +161,16 @@ std::vector<Case> cloth_cases(const fs::path& dir) {
 // Each case's prototype bending model and obstacles, foldfill's default weights.
 std::vector<Case> reference_cases(const fs::path& dir) {
   std::vector<Case> cases;
-  std::ifstream in(dir / "cases.json");
-  if (!in) return cases;
-  const nlohmann::json listing = nlohmann::json::parse(in);
-  for (const auto& entry : listing["cases"]) {
+  for (const auto& entry : foldfill::testing::read_reference_cases(dir)) {
     Case c;
-    const std::string file = entry["file"].get<std::string>();
+    const std::string& file = entry.file;
     c.name = fs::path(file).stem().string();
     c.group = "reference";
-    c.mesh = read_mesh((dir / file).string());
+    c.mesh = read_mesh(entry.path.string());
     c.loops = find_boundary_loops(c.mesh, file);
-    c.hole = loop_containing(c.loops, entry["hole_vertex"]);
-    if (entry["prototype"]["bending"] == "two_ring")
-      c.options.energy.bending = BendingModel::TwoRing;
-    c.options.obstacles =
-        parse_obstacles(nlohmann::json{{"obstacles", entry["obstacles"]}}.dump(), file);
+    c.hole = foldfill::testing::loop_through(c.loops, entry.hole_vertex);
+    if (entry.two_ring) c.options.energy.bending = BendingModel::TwoRing;
+    c.options.obstacles = foldfill::testing::reference_obstacles(entry);
     cases.push_back(std::move(c));
   }
   return cases;

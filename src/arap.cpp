@@ -40,11 +40,10 @@ namespace {
 constexpr double kMinCotanWeight = 1e-3;
 
 // The local step and the right-hand side are per-vertex sums, each on one
-// thread, so the result does not depend on the thread count. On 2 idle cores
-// (minimum of 21 ARAP runs on folded sheets) two threads took 15.2 instead
-// of 17.3 ms at 5.2k free vertices and 84 instead of 98 ms at 22k, but 6.2
-// ms either way at 2.1k; with one core busy elsewhere, 19.2 instead of 17.0
-// ms at 5.2k (each loop waits for the descheduled thread).
+// thread, so the result does not depend on the thread count. Below this many
+// free vertices the loops run on one thread: a second one saves nothing
+// there, and on a loaded machine each loop would wait for a descheduled
+// thread (docs/benchmarks.md, "Figures behind the code's choices").
 constexpr int kSmallestParallelDomain = 5000;
 
 // The one-ring of every vertex as flat arrays (compressed rows): for the k-th

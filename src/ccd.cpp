@@ -7,11 +7,10 @@
 #include <cstddef>
 
 #include "foldfill/collision.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
-
-double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
 using Corners = std::array<Vec3, 4>;
 

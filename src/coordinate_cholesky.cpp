@@ -1,15 +1,14 @@
 // CHOLMOD's supernodal Cholesky factorisation behind CoordinateCholesky.
 //
-// Why CHOLMOD (measurements in docs/scale.md): Eigen's SimplicialLDLT, used
-// before, factors column by column; on the preconditioner of a 120k-vertex
-// patch with its bending block it took 5.5 to 7 s of CPU. CHOLMOD's
-// supernodal factorisation works on dense blocks with the BLAS: 0.6 s with
-// AMD's ordering, 1.2 s with METIS's (nested dissection), whose factor holds
-// 106 entries per vertex instead of 153, so that each solve is cheaper.
+// Why CHOLMOD: a factorisation column by column (Eigen's SimplicialLDLT) is
+// several times slower on the preconditioners of large patches than
+// CHOLMOD's supernodal one, which works on dense blocks with the BLAS. With
+// METIS's ordering (nested dissection) the factor holds fewer entries than
+// with AMD's, so that each solve is cheaper (docs/scale.md).
 //
 // Determinism: the factor must not depend on the number of threads filling
 // holes at once, nor on their timing. So factorisations run one at a time
-// (they take a small part of a fill: 0.2 s of the 5 s of a 30k-vertex one):
+// (they take a small part of a fill):
 // - METIS draws its random numbers from the C library's rand(), whose state
 //   is global (it reseeds at each call): two analyses at once would share
 //   the stream and could order differently;
@@ -18,8 +17,8 @@
 //   OpenBLAS's serial builds need not be safe to call from two threads;
 // - CHOLMOD's supernodal factorisation opens OpenMP parallel regions of its
 //   own (4 threads, compiled in) for its copies: outside the holes' parallel
-//   loop they oversubscribed the cores, and the calling thread spun at their
-//   barriers (half the time of a 2k-vertex fill on 2 loaded cores), so they
+//   loop they oversubscribe the cores, and the calling thread spins at their
+//   barriers (a large share of a small fill's time on loaded cores), so they
 //   run with no active level (the setting is restored after).
 #include "coordinate_cholesky.h"
 
@@ -38,9 +37,9 @@ extern "C" void openblas_set_num_threads(int) __attribute__((weak));
 namespace foldfill {
 namespace {
 
-// Below this many rows METIS's factor is hardly smaller than AMD's (71
-// instead of 86 entries per row on a 10k preconditioner, 30 instead of 34
-// without the bending block) and its analysis costs more than it saves.
+// Below this many rows METIS's factor is hardly smaller than AMD's, and its
+// analysis costs more than it saves (docs/benchmarks.md, "Figures behind the
+// code's choices").
 constexpr Eigen::Index kSmallestMetisOrdering = 10000;
 
 // Columns of a panel of the factor's blocks (see coordinate_cholesky.h): the
@@ -69,9 +68,9 @@ class CholmodFactor {
     common_.print = 0;  // failures are reported by exceptions
     common_.supernodal = CHOLMOD_SUPERNODAL;
     // Chosen here rather than by CHOLMOD's default, which tries METIS only
-    // when AMD fills in very much: it never judged so on these meshes,
-    // although METIS's factors are the smaller from about 10k vertices on
-    // (20% faster solves at 120k).
+    // when AMD fills in very much: it does not judge so on these meshes,
+    // although METIS's factors are the smaller from about 10k vertices on,
+    // and the solves the faster.
     const bool try_metis = effort == OrderingEffort::Thorough && rows >= kSmallestMetisOrdering;
     common_.nmethods = try_metis ? 2 : 1;
     common_.method[0].ordering = CHOLMOD_AMD;
@@ -279,9 +278,9 @@ void CoordinateCholesky<Value>::forward_supernode(int s) const {
 // Back substitution, column by column from the last: x_j = (y_j - sum over
 // the rows i below j, in increasing order, of L(i, j) x_i) / L(j, j). Each
 // sum is one chain of dependent subtractions, so this half runs at their
-// latency; running the panel's sums side by side, row by row (as the forward
-// substitution does), measured 10% faster solves but would change the order
-// of the sums, hence the rounding, and with it the minimisations' paths.
+// latency. Running the panel's sums side by side, row by row (as the forward
+// substitution does), would be faster but would change the order of the
+// sums, hence the rounding, and with it the minimisations' paths.
 template <typename Value>
 void CoordinateCholesky<Value>::backward_supernode(int s) const {
   const int first = first_column_[s];

@@ -12,9 +12,9 @@ namespace foldfill {
 
 // How hard to look for a fill-reducing ordering: AMD alone (Quick), or also
 // METIS on matrices of 10k rows and more, keeping the ordering whose
-// factorisation takes fewer flops (Thorough). METIS's analysis costs about
-// 2 ms at 1k rows and 0.6 s at 120k; its smaller factor pays that back over
-// a few hundred solves on large matrices, not over ARAP's 30.
+// factorisation takes fewer flops (Thorough). METIS's analysis costs much
+// more than AMD's; its smaller factor pays that back over the hundreds of
+// solves of a minimisation on large matrices, not over ARAP's 30 iterations.
 enum class OrderingEffort { Quick, Thorough };
 
 // A Cholesky factor P A P^T = L L^T computed by CHOLMOD (supernodal, with
@@ -72,8 +72,8 @@ class CoordinateCholesky {
   // inverse_diagonal_), then the rows below it, all of the panel's columns,
   // but only those of the runs nonzero_runs_[run_start_[p] ...
   // run_start_[p + 1]): CHOLMOD's relaxed supernodes keep explicit zeros,
-  // and whole rows of a panel that are zero (10% of the preconditioner's
-  // entries, 18% of ARAP's) are left out of the solves. That changes no
+  // and whole rows of a panel that are zero (a sizeable share of the
+  // entries) are left out of the solves. That changes no
   // result for finite right-hand sides (the solver's gradients, ARAP's
   // rotated edges): 0 x is then a zero, and subtracting a zero changes no
   // value (at most the sign of a zero: -0 - -0 = +0).

@@ -23,6 +23,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/topology.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -36,26 +37,6 @@ constexpr double kDegenerateHeight = 1e-8;
 constexpr double kZeroAreaHeight = 1e-12;
 // Steps of the repaired outline from the loop's own angles to a circle's.
 constexpr int kRepairSteps = 8;
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec2 sub(const Vec2& a, const Vec2& b) { return {a[0] - b[0], a[1] - b[1]}; }
-double norm(const Vec2& a) { return std::hypot(a[0], a[1]); }
-double cross(const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; }
-
-// Interior angle at corner `a` of triangle (a, b, c), accurate for slivers.
-double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 u = sub(b, a), v = sub(c, a);
-  return std::atan2(norm(cross(u, v)), dot(u, v));
-}
-double corner_angle(const Vec2& a, const Vec2& b, const Vec2& c) {
-  const Vec2 u = sub(b, a), v = sub(c, a);
-  return std::atan2(std::abs(cross(u, v)), u[0] * v[0] + u[1] * v[1]);
-}
 
 // ---- Strip extraction and its topology check -------------------------------
 

@@ -20,10 +20,10 @@ struct CurvaturePair {
 // returns direction . g. Each step of either loop is one pass over the
 // vectors that also forms the dot product the next step needs: the first
 // loop updates q and d = P^-1 q for pair m and forms s_{m-1} . q, the second
-// adds pair m's s to d and forms y_{m+1} . d. The textbook's five passes per
-// pair were 14% of Curtain's fill. Only the order of the dot products' sums
-// differs from them: gamma, the final negation and the step's updates round
-// alike.
+// adds pair m's s to d and forms y_{m+1} . d: two passes per pair instead of
+// the textbook's five, whose passes over the vectors weigh in a large
+// patch's fill. Only the order of the dot products' sums differs from the
+// textbook's: gamma, the final negation and the step's updates round alike.
 double two_loop_recursion(const std::deque<CurvaturePair>& pairs, double gamma,
                           const Eigen::VectorXd& gradient, const Eigen::VectorXd& preconditioned,
                           std::vector<double>& alpha, Eigen::VectorXd& q,

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "foldfill/error.h"
+#include "foldfill/vec3.h"
 #include "triangle_geometry.h"
 
 namespace foldfill {
@@ -24,21 +25,13 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-
 double triangle_area(const std::vector<Vec3>& p, const Tri& f) {
   return 0.5 * norm(cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]])));
 }
 
 // Interior angle at corner k of face f.
 double corner_angle(const std::vector<Vec3>& p, const Tri& f, int k) {
-  const Vec3 a = sub(p[f[(k + 1) % 3]], p[f[k]]), b = sub(p[f[(k + 2) % 3]], p[f[k]]);
-  return std::atan2(norm(cross(a, b)), dot(a, b));
+  return foldfill::corner_angle(p[f[k]], p[f[(k + 1) % 3]], p[f[(k + 2) % 3]]);
 }
 
 Vec3 face_normal(const std::vector<Vec3>& p, const Tri& f) {
@@ -221,10 +214,10 @@ class BoxGrid {
   }
 
   // Cells 1.25 times as wide as the box extent (largest side) that 90% of
-  // the boxes do not exceed: a few long faces (the Curtain's strip: 5.1
-  // against 1.4) would otherwise make the cells, and the pairs tested in
-  // them, several times too many. Best of the widths tried, by instructions
-  // on the reference cases' ARAP starts.
+  // the boxes do not exceed: a few long faces (a strip's faces can be several
+  // times longer than the patch's) would otherwise make the cells, and the
+  // pairs tested in them, several times too many. The best of the widths
+  // tried on the reference cases.
   static constexpr double kTypicalQuantile = 0.9, kTypicalWidth = 1.25;
   // ... but no box overlaps more than 5 cells per axis,
   static constexpr double kMostCellsPerAxis = 4;
@@ -240,10 +233,9 @@ class BoxGrid {
 // the cells of a BoxGrid it overlaps (a counting sort by cell), and a pair is
 // visited in the one cell that holds the low corner of the boxes'
 // intersection, which both boxes overlap. A fill's faces are all of about one
-// size, so that a cell holds few boxes: with CGAL's box_self_intersection_d
-// (a segment tree, used before) the count took 6.3 to 7.1 instead of 3.3 ms
-// on the reference curtain's ARAP start (5338 faces), whose exact tests take
-// about 2 ms (docs/benchmarks.md).
+// size, so that a cell holds few boxes, and this grid finds the pairs in
+// less time than CGAL's box_self_intersection_d (a segment tree), which is
+// made for boxes of any sizes (docs/benchmarks.md).
 template <typename Visit>
 void for_each_overlapping_pair(const std::vector<FaceBox>& boxes, Visit visit) {
   const BoxGrid grid(boxes);

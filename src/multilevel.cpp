@@ -11,13 +11,10 @@
 #include <string>
 
 #include "foldfill/error.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
-
-double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
-  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-}
 
 // Barycentric coordinates of p in the triangle (a, b, c).
 std::array<double, 3> barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {

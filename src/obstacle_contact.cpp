@@ -9,18 +9,10 @@
 #include "foldfill/collision.h"
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
-
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 scaled(const Vec3& a, double s) { return {s * a[0], s * a[1], s * a[2]}; }
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 // As in collision_distance.cpp: below this squared sine of the angle between
 // two edges the triangle has no reliable normal and is taken as its three

@@ -19,6 +19,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
+#include "foldfill/vec3.h"
 #include "triangle_geometry.h"
 
 namespace foldfill {
@@ -44,15 +45,6 @@ constexpr int kPushTries = 6;
 // corner of its face (the pseudo-normal there is the edge's or the corner's).
 constexpr double kOnFeature = 1e-9;
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 add_scaled(const Vec3& a, const Vec3& d, double s) {
-  return {a[0] + s * d[0], a[1] + s * d[1], a[2] + s * d[2]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 Vec3 unit_or_zero(const Vec3& a) {
   const double length = norm(a);
   return length > 0 ? Vec3{a[0] / length, a[1] / length, a[2] / length} : Vec3{0, 0, 0};
@@ -126,9 +118,8 @@ ObstacleMesh::Search::Search(const Mesh& mesh, const std::string& source) {
         cross(sub(positions[t[1]], positions[t[0]]), sub(positions[t[2]], positions[t[0]])));
     face_normals.push_back(n);
     for (int k = 0; k < 3; ++k) {
-      const Vec3 a = sub(positions[t[(k + 1) % 3]], positions[t[k]]),
-                 b = sub(positions[t[(k + 2) % 3]], positions[t[k]]);
-      const double angle = std::atan2(norm(cross(a, b)), dot(a, b));
+      const double angle =
+          corner_angle(positions[t[k]], positions[t[(k + 1) % 3]], positions[t[(k + 2) % 3]]);
       corner_normals[t[k]] = add_scaled(corner_normals[t[k]], n, angle);
       Vec3& edge = edge_normals[edge_key(t[k], t[(k + 1) % 3])];
       edge = add_scaled(edge, n, 1);

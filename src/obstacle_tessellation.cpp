@@ -10,6 +10,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
+#include "foldfill/vec3.h"
 #include "triangle_geometry.h"
 
 namespace foldfill {
@@ -25,15 +26,6 @@ constexpr double kFinestStep = 1.0 / (1 << 24);
 // length grows by the square root of the excess and this much more, so that
 // few rounds reach a count that fits.
 constexpr double kCoarsening = 1.05;
-
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 Box3 grown(const Box3& box, double margin) {
   Box3 result = box;

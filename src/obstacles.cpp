@@ -15,6 +15,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/io.h"
+#include "foldfill/vec3.h"
 #include "triangle_geometry.h"
 
 namespace foldfill {
@@ -23,12 +24,6 @@ namespace {
 using geometry::any_perpendicular;
 
 using Json = nlohmann::json;
-
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 Vec3 rotate_z(const Vec3& v, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);

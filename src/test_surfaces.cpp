@@ -16,6 +16,7 @@
 
 #include "foldfill/examples.h"
 #include "foldfill/topology.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -25,11 +26,6 @@ constexpr double kPi = 3.14159265358979323846;
 Vec3 operator+(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 Vec3 operator-(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 Vec3 operator*(double s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 Vec3 normalized(const Vec3& a) { return (1 / norm(a)) * a; }
 double angle_between(const Vec3& a, const Vec3& b) {
   return std::atan2(norm(cross(a, b)), dot(a, b));

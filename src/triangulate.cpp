@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "foldfill/error.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -44,12 +45,6 @@ constexpr double kBoundaryMargin = 0.55;
 constexpr int kSmoothingRounds = 4;
 // A patch larger than this is a wrong density or a wrong scale, not a hole.
 constexpr double kMaxInteriorVertices = 2e7;
-
-double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
-  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-}
-
-double distance(const Vec2& a, const Vec2& b) { return std::hypot(b[0] - a[0], b[1] - a[1]); }
 
 std::vector<Point> to_points(const std::vector<Vec2>& uv) {
   std::vector<Point> points;
@@ -479,11 +474,6 @@ void smooth_interior(std::vector<Vec2>& uv, const std::vector<Tri>& faces, int b
       }
     }
   }
-}
-
-double corner_angle(const Vec2& at, const Vec2& a, const Vec2& b) {
-  const double ux = a[0] - at[0], uy = a[1] - at[1], vx = b[0] - at[0], vy = b[1] - at[1];
-  return std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy);
 }
 
 void measure_quality(FlatPatch& patch) {

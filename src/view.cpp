@@ -16,6 +16,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/holes.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace assets {
@@ -28,13 +29,6 @@ std::string_view three_js();
 }  // namespace assets
 
 namespace {
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 uint64_t edge_key(int a, int b) {
   const auto lo = static_cast<uint32_t>(std::min(a, b)), hi = static_cast<uint32_t>(std::max(a, b));

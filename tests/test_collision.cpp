@@ -23,6 +23,7 @@
 #include "foldfill/collision.h"
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -30,17 +31,9 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Gradient = std::array<Vec3, 4>;
 
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 mul(const Vec3& a, double s) { return {s * a[0], s * a[1], s * a[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-Vec3 unit(const Vec3& a) { return mul(a, 1 / norm(a)); }
+Vec3 unit(const Vec3& a) { return scaled(a, 1 / norm(a)); }
 // a + t (b - a)
-Vec3 lerp(const Vec3& a, const Vec3& b, double t) { return add(a, mul(sub(b, a), t)); }
+Vec3 lerp(const Vec3& a, const Vec3& b, double t) { return add(a, scaled(sub(b, a), t)); }
 
 struct Random {
   std::mt19937 engine;
@@ -55,7 +48,7 @@ struct Random {
     while (true) {
       const Vec3 p = point();
       const double n = norm(p);
-      if (n > 0.1 && n <= 1) return mul(p, 1 / n);
+      if (n > 0.1 && n <= 1) return scaled(p, 1 / n);
     }
   }
   int index(int count) { return std::uniform_int_distribution<int>(0, count - 1)(engine); }
@@ -88,7 +81,8 @@ double sampled_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const
   double best = HUGE_VAL;
   for (int i = 0; i <= n; ++i)
     for (int j = 0; i + j <= n; ++j) {
-      const Vec3 q = add(a, add(mul(sub(b, a), double(i) / n), mul(sub(c, a), double(j) / n)));
+      const Vec3 q =
+          add(a, add(scaled(sub(b, a), double(i) / n), scaled(sub(c, a), double(j) / n)));
       best = std::min(best, norm(sub(p, q)));
     }
   return best;
@@ -159,24 +153,24 @@ Vec3 point_near_feature(Random& random, const std::array<Vec3, 3>& t, int region
       u = random.uniform(margin, 1);
       v = random.uniform(margin, 1);
     } while (1 - u - v < margin);
-    const Vec3 q = add(t[0], add(mul(sub(t[1], t[0]), u), mul(sub(t[2], t[0]), v)));
-    return add(q, mul(n, random.uniform(0, 1) < 0.5 ? distance : -distance));
+    const Vec3 q = add(t[0], add(scaled(sub(t[1], t[0]), u), scaled(sub(t[2], t[0]), v)));
+    return add(q, scaled(n, random.uniform(0, 1) < 0.5 ? distance : -distance));
   }
   if (region <= 3) {
     const int k = region - 1;
     const Vec3 &e0 = t[k], &e1 = t[(k + 1) % 3], &other = t[(k + 2) % 3];
     const Vec3 along = unit(sub(e1, e0));
     Vec3 out = sub(e0, other);  // in-plane, away from the third corner
-    out = unit(sub(out, mul(along, dot(out, along))));
+    out = unit(sub(out, scaled(along, dot(out, along))));
     const double angle = random.uniform(-M_PI / 2 + margin, M_PI / 2 - margin);
     const Vec3 q = lerp(e0, e1, random.uniform(margin, 1 - margin));
-    return add(q, mul(add(mul(out, std::cos(angle)), mul(n, std::sin(angle))), distance));
+    return add(q, scaled(add(scaled(out, std::cos(angle)), scaled(n, std::sin(angle))), distance));
   }
   const int k = region - 4;
   const Vec3 &q = t[k], u = unit(sub(t[(k + 1) % 3], q)), v = unit(sub(t[(k + 2) % 3], q));
   while (true) {
     const Vec3 d = random.direction();
-    if (dot(d, u) < -margin && dot(d, v) < -margin) return add(q, mul(d, distance));
+    if (dot(d, u) < -margin && dot(d, v) < -margin) return add(q, scaled(d, distance));
   }
 }
 
@@ -235,7 +229,7 @@ TEST(PointTriangleDistance, DegenerateTriangles) {
                 1e-12);
     EXPECT_NEAR(std::sqrt(point_triangle_distance_squared(p, a, a, a)), norm(sub(p, a)), 1e-12);
     // Nearly collinear (height 1e-9): nearly the segment's distance.
-    const Vec3 lifted = add(c, mul(random.direction(), 1e-9));
+    const Vec3 lifted = add(c, scaled(random.direction(), 1e-9));
     EXPECT_NEAR(std::sqrt(point_triangle_distance_squared(p, a, b, lifted)), expected, 2e-9);
     // The gradient of a degenerate triangle's distance sums to zero
     // (translation) and matches the segment's.
@@ -251,8 +245,8 @@ TEST(PointTriangleDistance, ScaleInvariance) {
     const Vec3 p = random.point(-2, 2), a = random.point(), b = random.point(), c = random.point();
     Gradient g, g1000;
     const double d2 = point_triangle_distance_squared(p, a, b, c, &g);
-    const double d2_1000 = point_triangle_distance_squared(mul(p, 1000), mul(a, 1000), mul(b, 1000),
-                                                           mul(c, 1000), &g1000);
+    const double d2_1000 = point_triangle_distance_squared(
+        scaled(p, 1000), scaled(a, 1000), scaled(b, 1000), scaled(c, 1000), &g1000);
     EXPECT_NEAR(d2_1000, 1e6 * d2, 1e-9 * 1e6 * std::max(d2, 1e-6));
     for (int k = 0; k < 4; ++k)
       for (int x = 0; x < 3; ++x) EXPECT_NEAR(g1000[k][x], 1000 * g[k][x], 1e-6 * 1000);
@@ -269,30 +263,31 @@ std::array<Vec3, 4> segments_at_distance(Random& random, int kind, double distan
   while (true) {
     const Vec3 qa = random.point();
     const Vec3 n = random.direction();
-    const Vec3 qb = add(qa, mul(n, distance));
+    const Vec3 qb = add(qa, scaled(n, distance));
     // Directions perpendicular to n.
     const auto perpendicular = [&] {
       const Vec3 d = random.direction();
-      return unit(sub(d, mul(n, dot(d, n))));
+      return unit(sub(d, scaled(n, dot(d, n))));
     };
     const Vec3 u = perpendicular(), v = perpendicular();
     if (norm(cross(u, v)) < 0.2) continue;
     const double la = random.uniform(0.3, 2), lb = random.uniform(0.3, 2);
     if (kind == 0) {
       const double s = random.uniform(margin, 1 - margin), t = random.uniform(margin, 1 - margin);
-      return {sub(qa, mul(u, s * la)), add(qa, mul(u, (1 - s) * la)), sub(qb, mul(v, t * lb)),
-              add(qb, mul(v, (1 - t) * lb))};
+      return {sub(qa, scaled(u, s * la)), add(qa, scaled(u, (1 - s) * la)),
+              sub(qb, scaled(v, t * lb)), add(qb, scaled(v, (1 - t) * lb))};
     }
     // a0 = qa; a's direction leaves b (any direction w with w . (qa - qb) > 0).
     Vec3 w = random.direction();
-    if (dot(w, mul(n, -1)) < margin) continue;
+    if (dot(w, scaled(n, -1)) < margin) continue;
     if (kind == 1) {
       const double t = random.uniform(margin, 1 - margin);
-      return {qa, add(qa, mul(w, la)), sub(qb, mul(v, t * lb)), add(qb, mul(v, (1 - t) * lb))};
+      return {qa, add(qa, scaled(w, la)), sub(qb, scaled(v, t * lb)),
+              add(qb, scaled(v, (1 - t) * lb))};
     }
     Vec3 z = random.direction();
     if (dot(z, n) < margin) continue;  // b leaves a from b0 = qb
-    return {qa, add(qa, mul(w, la)), qb, add(qb, mul(z, lb))};
+    return {qa, add(qa, scaled(w, la)), qb, add(qb, scaled(z, lb))};
   }
 }
 
@@ -330,8 +325,8 @@ TEST(EdgeEdgeDistance, MatchesEveryCandidateOnRandomInput) {
   Random random(19);
   for (int trial = 0; trial < 100000; ++trial) {
     Vec3 a0 = random.point(), a1 = random.point(), b0 = random.point(), b1 = random.point();
-    if (trial % 4 == 1) a1 = add(a0, mul(sub(a1, a0), 1e-3));  // short against long
-    if (trial % 4 == 2) b1 = add(b0, add(mul(sub(a1, a0), 0.7), mul(random.point(), 1e-6)));
+    if (trial % 4 == 1) a1 = add(a0, scaled(sub(a1, a0), 1e-3));  // short against long
+    if (trial % 4 == 2) b1 = add(b0, add(scaled(sub(a1, a0), 0.7), scaled(random.point(), 1e-6)));
     const Vec3 u = sub(a1, a0), v = sub(b1, b0), w = sub(a0, b0);
     double expected = std::min({segment_distance(a0, b0, b1), segment_distance(a1, b0, b1),
                                 segment_distance(b0, a0, a1), segment_distance(b1, a0, a1)});
@@ -351,13 +346,13 @@ TEST(PointTriangleDistance, MatchesEveryCandidateOnRandomInput) {
   for (int trial = 0; trial < 100000; ++trial) {
     Vec3 a = random.point(), b = random.point(), c = random.point();
     const Vec3 p = random.point(-2, 2);
-    if (trial % 4 == 1) c = add(lerp(a, b, random.uniform(-1, 2)), mul(random.point(), 1e-6));
-    if (trial % 4 == 2) b = add(a, mul(random.point(), 1e-3));
+    if (trial % 4 == 1) c = add(lerp(a, b, random.uniform(-1, 2)), scaled(random.point(), 1e-6));
+    if (trial % 4 == 2) b = add(a, scaled(random.point(), 1e-3));
     double expected =
         std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
     const Vec3 n = cross(sub(b, a), sub(c, a));
     if (dot(n, n) > 1e-10 * dot(sub(b, a), sub(b, a)) * dot(sub(c, a), sub(c, a))) {
-      const Vec3 q = sub(p, mul(n, dot(n, sub(p, a)) / dot(n, n)));  // projection
+      const Vec3 q = sub(p, scaled(n, dot(n, sub(p, a)) / dot(n, n)));  // projection
       bool inside = true;
       const Vec3 corners[3] = {a, b, c};
       for (int k = 0; k < 3; ++k)
@@ -381,15 +376,15 @@ TEST(EdgeEdgeDistance, ParallelAndDegenerate) {
   Random random(9);
   for (int trial = 0; trial < 500; ++trial) {
     const Vec3 a0 = random.point(), d = random.direction(), offset = random.point();
-    const Vec3 a1 = add(a0, mul(d, random.uniform(0.1, 2)));
+    const Vec3 a1 = add(a0, scaled(d, random.uniform(0.1, 2)));
     const double s0 = random.uniform(-3, 3), s1 = random.uniform(-3, 3);
-    const Vec3 b0 = add(add(a0, mul(d, s0)), offset), b1 = add(add(a0, mul(d, s1)), offset);
+    const Vec3 b0 = add(add(a0, scaled(d, s0)), offset), b1 = add(add(a0, scaled(d, s1)), offset);
     // Parallel: the least of the four end-to-segment distances.
     const double expected = std::min({segment_distance(a0, b0, b1), segment_distance(a1, b0, b1),
                                       segment_distance(b0, a0, a1), segment_distance(b1, a0, a1)});
     EXPECT_NEAR(std::sqrt(edge_edge_distance_squared(a0, a1, b0, b1)), expected, 1e-12);
     // Nearly parallel (1e-9 rad): nearly the same.
-    const Vec3 tilted = add(b1, mul(random.direction(), 1e-9 * norm(sub(b1, b0))));
+    const Vec3 tilted = add(b1, scaled(random.direction(), 1e-9 * norm(sub(b1, b0))));
     EXPECT_NEAR(std::sqrt(edge_edge_distance_squared(a0, a1, b0, tilted)), expected, 1e-8);
     // Collinear and overlapping: 0.
     EXPECT_NEAR(edge_edge_distance_squared(a0, a1, lerp(a0, a1, 0.5), lerp(a0, a1, 2)), 0, 1e-24);
@@ -411,8 +406,8 @@ TEST(EdgeEdgeDistance, ScaleInvariance) {
     const Vec3 a0 = random.point(), a1 = random.point(), b0 = random.point(), b1 = random.point();
     Gradient g, g1000;
     const double d2 = edge_edge_distance_squared(a0, a1, b0, b1, &g);
-    const double d2_1000 = edge_edge_distance_squared(mul(a0, 1000), mul(a1, 1000), mul(b0, 1000),
-                                                      mul(b1, 1000), &g1000);
+    const double d2_1000 = edge_edge_distance_squared(scaled(a0, 1000), scaled(a1, 1000),
+                                                      scaled(b0, 1000), scaled(b1, 1000), &g1000);
     EXPECT_NEAR(d2_1000, 1e6 * d2, 1e-9 * 1e6 * std::max(d2, 1e-6));
     for (int k = 0; k < 4; ++k)
       for (int x = 0; x < 3; ++x) EXPECT_NEAR(g1000[k][x], 1000 * g[k][x], 1e-6 * 1000);
@@ -583,10 +578,10 @@ TEST(AdditiveCcd, ScaleInvariance) {
   for (int trial = 0; trial < 300; ++trial) {
     std::array<Vec3, 8> x;
     for (Vec3& v : x) v = random.point();
-    for (int k = 4; k < 8; ++k) x[k] = mul(x[k], 3);
+    for (int k = 4; k < 8; ++k) x[k] = scaled(x[k], 3);
     const double toi = point_triangle_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
     std::array<Vec3, 8> y;
-    for (int k = 0; k < 8; ++k) y[k] = mul(x[k], 1024);  // exact scaling
+    for (int k = 0; k < 8; ++k) y[k] = scaled(x[k], 1024);  // exact scaling
     EXPECT_EQ(point_triangle_ccd(y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7]), toi);
     EXPECT_EQ(edge_edge_ccd(y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7]),
               edge_edge_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]));
@@ -594,8 +589,8 @@ TEST(AdditiveCcd, ScaleInvariance) {
   // Scaled by 1000 (not exact): nearly the same times.
   const Vec3 a{-1, -1, 0}, b{2, -1, 0}, c{-1, 2, 0};
   const double toi = point_static_triangle_ccd({0.1, 0.2, 1}, {0, 0, -2}, a, b, c);
-  EXPECT_NEAR(point_static_triangle_ccd({100, 200, 1000}, {0, 0, -2000}, mul(a, 1000), mul(b, 1000),
-                                        mul(c, 1000)),
+  EXPECT_NEAR(point_static_triangle_ccd({100, 200, 1000}, {0, 0, -2000}, scaled(a, 1000),
+                                        scaled(b, 1000), scaled(c, 1000)),
               toi, 1e-12);
   const double ee = edge_edge_ccd({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0}, {0, 0, -4},
                                   {0, 0, -4}, kZero, kZero);
@@ -608,7 +603,7 @@ TEST(AdditiveCcd, ScaleInvariance) {
 double distance_at(bool point_triangle, const std::array<Vec3, 4>& x, const std::array<Vec3, 4>& dx,
                    double t) {
   std::array<Vec3, 4> y;
-  for (int k = 0; k < 4; ++k) y[k] = add(x[k], mul(dx[k], t));
+  for (int k = 0; k < 4; ++k) y[k] = add(x[k], scaled(dx[k], t));
   return std::sqrt(point_triangle ? pt_distance(y, nullptr) : ee_distance(y, nullptr));
 }
 
@@ -639,7 +634,7 @@ double first_contact(bool point_triangle, const std::array<Vec3, 4>& x,
                      const std::array<Vec3, 4>& dx) {
   const auto at = [&](double t) {
     std::array<Vec3, 4> y;
-    for (int k = 0; k < 4; ++k) y[k] = add(x[k], mul(dx[k], t));
+    for (int k = 0; k < 4; ++k) y[k] = add(x[k], scaled(dx[k], t));
     return y;
   };
   const int n = 2000;
@@ -695,13 +690,13 @@ TEST(AdditiveCcd, NeverCrossesOnRandomSteps) {
     for (Vec3& v : x) v = random.point(0, 1);
     // Aim the step so that about half of the pairs collide: the point (or
     // first edge) towards the other primitive, everything perturbed.
-    const Vec3 centre_a = point_triangle ? x[0] : mul(add(x[0], x[1]), 0.5);
+    const Vec3 centre_a = point_triangle ? x[0] : scaled(add(x[0], x[1]), 0.5);
     const Vec3 centre_b =
-        point_triangle ? mul(add(add(x[1], x[2]), x[3]), 1.0 / 3) : mul(add(x[2], x[3]), 0.5);
-    const Vec3 aim = mul(sub(centre_b, centre_a), random.uniform(0.5, 2.5));
+        point_triangle ? scaled(add(add(x[1], x[2]), x[3]), 1.0 / 3) : scaled(add(x[2], x[3]), 0.5);
+    const Vec3 aim = scaled(sub(centre_b, centre_a), random.uniform(0.5, 2.5));
     for (int k = 0; k < 4; ++k) {
       const bool side_a = point_triangle ? k == 0 : k < 2;
-      dx[k] = add(side_a ? aim : kZero, mul(random.point(), random.uniform(0, 1)));
+      dx[k] = add(side_a ? aim : kZero, scaled(random.point(), random.uniform(0, 1)));
     }
     const double toi =
         point_triangle
@@ -729,7 +724,7 @@ TEST(AdditiveCcd, NeverCrossesOnRandomSteps) {
       std::array<Vec3, 4> y = x, previous = x;
       const int samples = 200;
       for (int s = 1; s <= samples; ++s) {
-        for (int k = 0; k < 4; ++k) y[k] = add(x[k], mul(dx[k], toi * s / samples));
+        for (int k = 0; k < 4; ++k) y[k] = add(x[k], scaled(dx[k], toi * s / samples));
         const Vec3 n0 = cross(sub(previous[2], previous[1]), sub(previous[3], previous[1]));
         const Vec3 n1 = cross(sub(y[2], y[1]), sub(y[3], y[1]));
         if (over_triangle(previous) && over_triangle(y) && dot(n0, n1) > 0) {
@@ -965,7 +960,7 @@ TEST(CollisionBroadPhase, EqualsBruteForceOnRandomSoups) {
       // Free vertices move (the trees are refitted); fixed ones are told to
       // move too, which the search must ignore.
       std::vector<Vec3> dx(n);
-      for (Vec3& d : dx) d = mul(random.point(), 0.3 * step);
+      for (Vec3& d : dx) d = scaled(random.point(), 0.3 * step);
       for (int v = fixed; v < n; ++v) soup.positions[v] = add(soup.positions[v], dx[v]);
       const double distance = 0.05 * (trial % 4);
       broad.find(flat(soup.positions), nullptr, distance, found);
@@ -1080,7 +1075,8 @@ TEST(CollisionBroadPhase, DeterministicAcrossThreadsAndCalls) {
   // A search that had to rebuild its trees, or a fresh object.
   CollisionBroadPhase other(layers.mesh, flat(layers.positions));
   std::vector<Vec3> far = layers.positions;
-  for (int v = layers.mesh.fixed_count; v < layers.mesh.vertex_count; ++v) far[v] = mul(far[v], 3);
+  for (int v = layers.mesh.fixed_count; v < layers.mesh.vertex_count; ++v)
+    far[v] = scaled(far[v], 3);
   other.find(flat(far), nullptr, 0.1, again);
   other.find(flat(layers.positions), flat(layers.step), 0.1, again);
   omp_set_num_threads(threads);
@@ -1148,7 +1144,7 @@ TEST(CollisionStepBound, StopsBeforeContactAndIsDeterministic) {
   const double start = least_distance(layers.mesh, layers.positions);
   for (int s = 1; s <= 20; ++s) {
     std::vector<Vec3> y = x;
-    for (size_t v = 0; v < y.size(); ++v) y[v] = add(y[v], mul(dx[v], one * s / 20));
+    for (size_t v = 0; v < y.size(); ++v) y[v] = add(y[v], scaled(dx[v], one * s / 20));
     EXPECT_GT(least_distance(layers.mesh, y), 0.01 * start);
   }
   // Displacements given to fixed vertices are ignored.
@@ -1163,7 +1159,7 @@ TEST(KeepCandidatesWithin, KeepsExactlyTheClosePairs) {
   Layers layers = two_layers(12, 0.25, 0);
   Random random(18);
   for (int v = layers.mesh.fixed_count; v < layers.mesh.vertex_count; ++v)
-    layers.positions[v] = add(layers.positions[v], mul(random.point(), 0.1));
+    layers.positions[v] = add(layers.positions[v], scaled(random.point(), 0.1));
   const double distance = 0.3;
   CollisionBroadPhase broad(layers.mesh, flat(layers.positions));
   CollisionCandidates candidates;
@@ -1201,7 +1197,7 @@ TEST(BarrierPotential, GradientAndCompleteness) {
   // Crumple the free sheet a little so that every kind of pair is active.
   Random random(16);
   for (int v = layers.mesh.fixed_count; v < layers.mesh.vertex_count; ++v)
-    layers.positions[v] = add(layers.positions[v], mul(random.point(), 0.08));
+    layers.positions[v] = add(layers.positions[v], scaled(random.point(), 0.08));
   const double dhat = 0.3;
   CollisionBroadPhase broad(layers.mesh, flat(layers.positions));
   CollisionCandidates candidates;
@@ -1289,7 +1285,7 @@ Obstacle random_obstacle(Random& random, int type) {
 // the sphere, the capsule around a cylinder's axis segment, the half-space.
 double solid_distance(const Obstacle& o, const Vec3& p) {
   if (o.type != Obstacle::Type::Cylinder) return signed_distance(o, p);
-  const Vec3 half = mul(o.axis, 0.5 * o.height);
+  const Vec3 half = scaled(o.axis, 0.5 * o.height);
   return segment_distance(p, sub(o.center, half), add(o.center, half)) - o.radius;
 }
 
@@ -1300,8 +1296,8 @@ double sampled_minimum(const std::array<Vec3, 3>& t, int n,
   double best = HUGE_VAL;
   for (int i = 0; i <= n; ++i)
     for (int j = 0; i + j <= n; ++j)
-      best = std::min(best, f(add(t[0], add(mul(sub(t[1], t[0]), double(i) / n),
-                                            mul(sub(t[2], t[0]), double(j) / n)))));
+      best = std::min(best, f(add(t[0], add(scaled(sub(t[1], t[0]), double(i) / n),
+                                            scaled(sub(t[2], t[0]), double(j) / n)))));
   return best;
 }
 
@@ -1385,7 +1381,7 @@ TEST(SegmentTriangleDistance, AgainstSampling) {
     const Vec3 a = random.point(), b = random.point(), c = random.point();
     const Vec3 s0 = random.point(-2, 2);
     // Half of them aimed through the triangle's centroid.
-    const Vec3 centroid = mul(add(add(a, b), c), 1.0 / 3);
+    const Vec3 centroid = scaled(add(add(a, b), c), 1.0 / 3);
     const Vec3 s1 = trial % 2 ? random.point(-2, 2) : lerp(s0, centroid, random.uniform(0.5, 2));
     const double exact = std::sqrt(segment_triangle_distance_squared(s0, s1, a, b, c));
     double sampled = HUGE_VAL;
@@ -1522,7 +1518,7 @@ TEST(ObstacleDistance, CrossingTrianglesAreNotPositive) {
       const double phase = random.uniform(0, 2 * M_PI);
       for (int k = 0; k < 3; ++k) {
         const double angle = phase + 2 * M_PI * k / 3;
-        t[k] = add(inner, add(mul(e1, 5 * std::cos(angle)), mul(e2, 5 * std::sin(angle))));
+        t[k] = add(inner, add(scaled(e1, 5 * std::cos(angle)), scaled(e2, 5 * std::sin(angle))));
       }
     } else {
       t = {inner, random.point(-3, 3), random.point(-3, 3)};
@@ -1560,13 +1556,13 @@ TEST(ObstacleDistance, ScaleInvariance) {
     const std::array<Vec3, 3> t = {random.point(-2, 2), random.point(-2, 2), random.point(-2, 2)};
     for (const double scale : {1024.0, 1000.0}) {
       Obstacle big = o;
-      big.center = mul(o.center, scale);
+      big.center = scaled(o.center, scale);
       big.radius = o.radius * scale;
       big.height = o.height * scale;
       std::array<Vec3, 3> g, g_big;
       const double d = triangle_obstacle_distance(o, t[0], t[1], t[2], &g);
-      const double d_big = triangle_obstacle_distance(big, mul(t[0], scale), mul(t[1], scale),
-                                                      mul(t[2], scale), &g_big);
+      const double d_big = triangle_obstacle_distance(big, scaled(t[0], scale), scaled(t[1], scale),
+                                                      scaled(t[2], scale), &g_big);
       if (scale == 1024) {
         EXPECT_EQ(d_big, scale * d);  // exact scaling
         EXPECT_EQ(g_big, g);
@@ -1649,11 +1645,11 @@ TEST(ObstacleCcd, ScaleInvariance) {
     const double toi = triangle_obstacle_ccd(o, x[0], x[1], x[2], x[3], x[4], x[5]);
     for (const double scale : {1024.0, 1000.0}) {
       Obstacle big = o;
-      big.center = mul(o.center, scale);
+      big.center = scaled(o.center, scale);
       big.radius = o.radius * scale;
       big.height = o.height * scale;
       std::array<Vec3, 6> y;
-      for (int k = 0; k < 6; ++k) y[k] = mul(x[k], scale);
+      for (int k = 0; k < 6; ++k) y[k] = scaled(x[k], scale);
       const double scaled = triangle_obstacle_ccd(big, y[0], y[1], y[2], y[3], y[4], y[5]);
       if (scale == 1024) {
         EXPECT_EQ(scaled, toi) << "trial " << trial;
@@ -1686,19 +1682,19 @@ TEST(ObstacleCcd, NeverTouchesOnRandomSteps) {
       for (Vec3& v : x) v = random.point(-2, 2);
       if (triangle_obstacle_distance(o, x[0], x[1], x[2]) > 0) break;
     }
-    const Vec3 centroid = mul(add(add(x[0], x[1]), x[2]), 1.0 / 3);
+    const Vec3 centroid = scaled(add(add(x[0], x[1]), x[2]), 1.0 / 3);
     // Towards the obstacle (a plane's point may be far to the side: its normal).
     const Vec3 towards = o.type == Obstacle::Type::Plane
-                             ? mul(o.normal, -signed_distance(o, centroid))
+                             ? scaled(o.normal, -signed_distance(o, centroid))
                              : sub(o.center, centroid);
-    const Vec3 aim = mul(towards, random.uniform(0.5, 2.5));
-    for (Vec3& d : dx) d = add(aim, mul(random.point(), random.uniform(0, 1)));
+    const Vec3 aim = scaled(towards, random.uniform(0.5, 2.5));
+    for (Vec3& d : dx) d = add(aim, scaled(random.point(), random.uniform(0, 1)));
     const double toi = triangle_obstacle_ccd(o, x[0], x[1], x[2], dx[0], dx[1], dx[2], options);
     ASSERT_GE(toi, 0);
     ASSERT_LE(toi, 1);
     const auto at = [&](double t) {
-      return std::array<Vec3, 3>{add(x[0], mul(dx[0], t)), add(x[1], mul(dx[1], t)),
-                                 add(x[2], mul(dx[2], t))};
+      return std::array<Vec3, 3>{add(x[0], scaled(dx[0], t)), add(x[1], scaled(dx[1], t)),
+                                 add(x[2], scaled(dx[2], t))};
     };
     const auto distance = [&](double t) {
       const auto y = at(t);

@@ -13,17 +13,16 @@
 #include "foldfill/inpaint.h"
 #include "foldfill/metrics.h"
 #include "foldfill/test_surfaces.h"
+#include "support/loops.h"
 
 namespace foldfill {
 namespace {
 
-// The loop through `vertex`.
+// The loop through `vertex`; a test failure when there is none.
 int loop_through(const std::vector<BoundaryLoop>& loops, int vertex) {
-  for (const BoundaryLoop& loop : loops)
-    if (std::find(loop.vertices.begin(), loop.vertices.end(), vertex) != loop.vertices.end())
-      return loop.id;
-  ADD_FAILURE() << "no loop through vertex " << vertex;
-  return -1;
+  const int id = testing::loop_through(loops, vertex);
+  if (id < 0) ADD_FAILURE() << "no loop through vertex " << vertex;
+  return id;
 }
 
 // Fills the surface's holes and checks that every one is closed, the open

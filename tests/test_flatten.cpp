@@ -22,6 +22,8 @@
 #include "foldfill/io.h"
 #include "foldfill/topology.h"
 #include "foldfill/triangulate.h"
+#include "support/loops.h"
+#include "support/reference_cases.h"
 #include "test_geometry.h"
 #include "test_support.h"
 
@@ -350,23 +352,18 @@ const std::map<std::string, FitLimits> kReferenceLimits = {
 
 TEST(FlattenReference, FitDoesNotGetWorse) {
   FOLDFILL_REQUIRE_SHARED();
-  const auto folder = testing::shared_dir() / "data" / "reference";
-  std::ifstream file(folder / "cases.json");
-  ASSERT_TRUE(file) << "cannot open cases.json";
-  const nlohmann::json cases = nlohmann::json::parse(file)["cases"];
+  const auto cases = testing::read_reference_cases(testing::shared_dir() / "data" / "reference");
   ASSERT_EQ(cases.size(), kReferenceLimits.size());
-  for (const auto& entry : cases) {
-    const std::string name = entry["file"];
+  for (const testing::ReferenceCase& entry : cases) {
+    const std::string& name = entry.file;
     SCOPED_TRACE(name);
-    const Mesh mesh = read_mesh((folder / name).string());
-    const int hole_vertex = entry["hole_vertex"];
+    const Mesh mesh = read_mesh(entry.path.string());
     const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, name);
-    const auto loop = std::find_if(loops.begin(), loops.end(), [&](const BoundaryLoop& l) {
-      return std::find(l.vertices.begin(), l.vertices.end(), hole_vertex) != l.vertices.end();
-    });
-    ASSERT_NE(loop, loops.end());
-    EXPECT_EQ(static_cast<int>(loop->vertices.size()), entry["hole_loop_size"].get<int>());
-    const Strip strip = extract_strip(mesh, *loop, name);
+    const int id = testing::loop_through(loops, entry.hole_vertex);
+    ASSERT_GE(id, 0);
+    const BoundaryLoop& loop = loops[id];
+    EXPECT_EQ(static_cast<int>(loop.vertices.size()), entry.hole_loop_size);
+    const Strip strip = extract_strip(mesh, loop, name);
     const Flattening flat = flatten_strip(strip, name);
     std::printf(
         "%-18s loop %3d  strip %4zu faces  edge length rms %.3e max %.3e  "

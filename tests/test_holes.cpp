@@ -18,6 +18,7 @@
 #include "foldfill/io.h"
 #include "foldfill/test_surfaces.h"
 #include "foldfill/topology.h"
+#include "support/reference_cases.h"
 #include "test_support.h"
 
 namespace foldfill {
@@ -420,18 +421,15 @@ TEST(Holes, VertexOfVeryHighDegree) {
 // are the outer boundaries, and the default, ids and `near` pick the hole.
 TEST(Holes, ReferenceCases) {
   FOLDFILL_REQUIRE_SHARED();
-  const auto folder = testing::shared_dir() / "data" / "reference";
-  std::ifstream file(folder / "cases.json");
-  ASSERT_TRUE(file) << "cannot open cases.json";
-  const nlohmann::json cases = nlohmann::json::parse(file)["cases"];
-  ASSERT_FALSE(cases.empty());
-  for (const auto& entry : cases) {
-    const std::string name = entry["file"];
+  const auto cases = testing::read_reference_cases(testing::shared_dir() / "data" / "reference");
+  ASSERT_FALSE(cases.empty()) << "no cases.json";
+  for (const testing::ReferenceCase& entry : cases) {
+    const std::string& name = entry.file;
     SCOPED_TRACE(name);
-    const Mesh mesh = read_mesh((folder / name).string());
+    const Mesh mesh = read_mesh(entry.path.string());
     const auto loops = find_boundary_loops(mesh, name);
-    const int hole_vertex = entry["hole_vertex"];
-    const int outer_loops = entry["outer_loops"];
+    const int hole_vertex = entry.hole_vertex;
+    const int outer_loops = entry.outer_loops;
 
     std::vector<int> holding;  // loops through hole_vertex
     for (const BoundaryLoop& loop : loops) {
@@ -441,7 +439,7 @@ TEST(Holes, ReferenceCases) {
     }
     ASSERT_EQ(holding.size(), 1u);
     const BoundaryLoop& hole = loops[holding[0]];
-    EXPECT_EQ(static_cast<int>(hole.vertices.size()), entry["hole_loop_size"].get<int>());
+    EXPECT_EQ(static_cast<int>(hole.vertices.size()), entry.hole_loop_size);
     EXPECT_TRUE(hole.is_disk) << hole.reason;
     EXPECT_EQ(static_cast<int>(loops.size()) - 1, outer_loops);
 

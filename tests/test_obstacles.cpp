@@ -13,6 +13,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
+#include "support/reference_cases.h"
 #include "test_support.h"
 
 namespace foldfill {
@@ -104,15 +105,12 @@ TEST(ParseObstacles, PrototypeTextFormat) {
 // Euler convention on real data (the opposite sign of phi misses it by 1.5).
 TEST(ParseObstacles, Sim2ObstaclesFromCasesJson) {
   FOLDFILL_REQUIRE_SHARED();
-  std::ifstream in(foldfill::testing::shared_dir() / "data/reference/cases.json");
-  const auto cases = nlohmann::json::parse(in).at("cases");
-  nlohmann::json sim2;
-  for (const auto& c : cases) {
-    if (c.at("file") == "sim2_hole.obj") sim2 = c;
-  }
-  ASSERT_FALSE(sim2.is_null());
-  const auto obstacles =
-      parse_obstacles(nlohmann::json{{"obstacles", sim2.at("obstacles")}}.dump(), "cases.json");
+  const auto cases =
+      foldfill::testing::read_reference_cases(foldfill::testing::shared_dir() / "data/reference");
+  const auto sim2 = std::find_if(cases.begin(), cases.end(),
+                                 [](const auto& c) { return c.file == "sim2_hole.obj"; });
+  ASSERT_NE(sim2, cases.end());
+  const auto obstacles = foldfill::testing::reference_obstacles(*sim2);
   ASSERT_EQ(obstacles.size(), 3u);
   const Obstacle& arm = obstacles[1];
   const Obstacle& shoulder = obstacles[2];

@@ -13,65 +13,43 @@
 #include "foldfill/io.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/topology.h"
+#include "support/loops.h"
+#include "support/reference_cases.h"
 #include "test_support.h"
 
 namespace foldfill {
 namespace {
 
-struct ReferenceCase {
-  std::string file;
-  int hole_vertex = 0;
-  int hole_loop_size = 0;
-  int outer_loops = 0;
-  PrototypeWeights weights;
-  BendingModel bending = BendingModel::Quadratic;
-  std::vector<Obstacle> obstacles;
-};
+using testing::loop_through;
+using testing::ReferenceCase;
 
 std::vector<ReferenceCase> load_cases() {
-  const std::filesystem::path dir = testing::shared_dir() / "data" / "reference";
-  std::ifstream in(dir / "cases.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
-  std::vector<ReferenceCase> cases;
-  for (const auto& c : j["cases"]) {
-    ReferenceCase r;
-    r.file = (dir / c["file"].get<std::string>()).string();
-    r.hole_vertex = c["hole_vertex"];
-    r.hole_loop_size = c["hole_loop_size"];
-    r.outer_loops = c["outer_loops"];
-    const auto& p = c["prototype"];
-    r.weights.alpha = p["alpha"];
-    r.weights.beta = p["beta"];
-    r.weights.mu = p["mu"];
-    r.bending = p["bending"] == "two_ring" ? BendingModel::TwoRing : BendingModel::Quadratic;
-    r.obstacles = parse_obstacles(nlohmann::json{{"obstacles", c["obstacles"]}}.dump(), r.file);
-    cases.push_back(r);
-  }
-  return cases;
+  return testing::read_reference_cases(testing::shared_dir() / "data" / "reference");
 }
 
-int loop_containing(const std::vector<BoundaryLoop>& loops, int vertex) {
-  for (const BoundaryLoop& loop : loops) {
-    if (std::find(loop.vertices.begin(), loop.vertices.end(), vertex) != loop.vertices.end())
-      return loop.id;
-  }
-  return -1;
+// `c`'s prototype weights, bending model and obstacles.
+FillOptions prototype_options(const ReferenceCase& c) {
+  FillOptions options;
+  options.prototype = PrototypeWeights{};
+  options.prototype->alpha = c.alpha;
+  options.prototype->beta = c.beta;
+  options.prototype->mu = c.mu;
+  options.energy.bending = c.two_ring ? BendingModel::TwoRing : BendingModel::Quadratic;
+  options.obstacles = testing::reference_obstacles(c);
+  return options;
 }
 
 TEST(Reference, EveryPrototypeExampleFills) {
   FOLDFILL_REQUIRE_SHARED();
   for (const ReferenceCase& c : load_cases()) {
     SCOPED_TRACE(c.file);
-    const Mesh mesh = read_mesh(c.file);
+    const Mesh mesh = read_mesh(c.path.string());
     const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, c.file);
-    const int hole = loop_containing(loops, c.hole_vertex);
+    const int hole = loop_through(loops, c.hole_vertex);
     ASSERT_GE(hole, 0);
     ASSERT_EQ(static_cast<int>(loops[hole].vertices.size()), c.hole_loop_size);
 
-    FillOptions options;
-    options.prototype = c.weights;
-    options.energy.bending = c.bending;
-    options.obstacles = c.obstacles;
+    const FillOptions options = prototype_options(c);
     const FillResult result = fill_holes(mesh, loops, {hole}, options, c.file);
     const HoleReport& report = result.report.holes.at(0);
     ASSERT_TRUE(report.filled) << report.reason;
@@ -104,8 +82,8 @@ TEST(Reference, EveryPrototypeExampleFills) {
     // The chosen loop is closed, the outer ones stay open, the output is manifold.
     const std::vector<BoundaryLoop> after = find_boundary_loops(result.mesh, c.file);
     EXPECT_EQ(static_cast<int>(after.size()), c.outer_loops);
-    EXPECT_EQ(loop_containing(after, c.hole_vertex), -1);
-    for (const Obstacle& o : c.obstacles) {
+    EXPECT_EQ(loop_through(after, c.hole_vertex), -1);
+    for (const Obstacle& o : options.obstacles) {
       for (int v = mesh.vertex_count(); v < result.mesh.vertex_count(); ++v) {
         EXPECT_GE(signed_distance(o, result.mesh.positions[v]),
                   -report.obstacle_allowance * report.length_scale);
@@ -131,24 +109,15 @@ ReferenceCase case_named(const std::vector<ReferenceCase>& cases, const std::str
 
 // Fills the hole of `c` with `options`.
 FillResult fill_reference_mesh(const ReferenceCase& c, const FillOptions& options) {
-  const Mesh mesh = read_mesh(c.file);
+  const Mesh mesh = read_mesh(c.path.string());
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh, c.file);
-  const int hole = loop_containing(loops, c.hole_vertex);
+  const int hole = loop_through(loops, c.hole_vertex);
   if (hole < 0) throw std::runtime_error(c.file + ": the hole vertex is on no loop");
   return fill_holes(mesh, loops, {hole}, options, c.file);
 }
 
 HoleReport fill_reference(const ReferenceCase& c, const FillOptions& options) {
   return fill_reference_mesh(c, options).report.holes.at(0);
-}
-
-// `c`'s prototype weights, bending model and obstacles.
-FillOptions prototype_options(const ReferenceCase& c) {
-  FillOptions options;
-  options.prototype = c.weights;
-  options.energy.bending = c.bending;
-  options.obstacles = c.obstacles;
-  return options;
 }
 
 // sim2's patch settles into the gap between two cylinders and a sphere,
@@ -198,7 +167,7 @@ TEST(Reference, TheWeightsAskedForAreTheWeightsUsed) {
     const HoleReport report = fill_reference(c, prototype_options(c));
     ASSERT_TRUE(report.filled) << report.reason;
     EXPECT_EQ(report.self_intersections, 0) << name;
-    EXPECT_EQ(report.repulsion, c.weights.mu / c.weights.alpha) << name;
+    EXPECT_EQ(report.repulsion, c.mu / c.alpha) << name;
   }
 }
 

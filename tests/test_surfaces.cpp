@@ -14,17 +14,12 @@
 #include "foldfill/flatten.h"
 #include "foldfill/holes.h"
 #include "foldfill/topology.h"
+#include "support/loops.h"
 
 namespace foldfill {
 namespace {
 
-// The loop through `vertex`, or -1.
-int loop_through(const std::vector<BoundaryLoop>& loops, int vertex) {
-  for (const BoundaryLoop& loop : loops) {
-    if (std::count(loop.vertices.begin(), loop.vertices.end(), vertex)) return loop.id;
-  }
-  return -1;
-}
+using testing::loop_through;
 
 struct Range {
   size_t low, high;

@@ -13,12 +13,12 @@ struct ArapOptions {
   double shrink = 0.5;  // c: the rest shape is the flat state scaled by c
   int iterations = 30;  // at most
   // Stop once no free vertex moved more than this many mean rest edge lengths
-  // in one iteration. The result only starts the minimisation: on bench_fill's
-  // cases 3e-4 takes 11 to 30 iterations (60% of the cap in all) and leaves
-  // the final energies as they were (one 0.5% lower), while looser values
-  // let sphere patches settle in higher minima (dev06 +2.6% at 1e-3, dev01
-  // +8.5% at 3e-3). (Any change of the start, even 60 iterations, moves some
-  // folded patches to another minimum of about the same energy.)
+  // in one iteration. The result only starts the minimisation: a tighter
+  // value costs iterations and leaves the final energies as they are, while a
+  // looser one lets curved patches (sphere caps) settle in higher minima
+  // (docs/benchmarks.md, "Figures behind the code's choices"). Any change of
+  // the start moves some folded patches to another minimum of about the same
+  // energy, so this value is part of the results.
   double tolerance = 3e-4;
 };
 
