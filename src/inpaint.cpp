@@ -837,17 +837,18 @@ void check_patch_shape(const Mesh& mesh, HolePatch& patch, double min_angle,
 }
 
 // One smooth step of the chain.
-HolePatch fill_smooth(const FillContext& context, const BoundaryLoop& loop, SmoothFairing fairing,
+HolePatch fill_smooth(const FillContext& context, const BoundaryLoop& loop, FillMethod method,
                       HolePatch&& result) {
+  const SmoothFairing fairing = method == FillMethod::Smooth  ? SmoothFairing::Curvature
+                                : method == FillMethod::Liepa ? SmoothFairing::Tangent
+                                                              : SmoothFairing::Triangulation;
   const auto start = Clock::now();
   HoleReport& report = result.report;
   SmoothPatch smooth =
       fill_hole_smooth(context.mesh, context.vertex_faces, loop, fairing, context.source);
   result.new_positions = std::move(smooth.new_positions);
   result.faces = std::move(smooth.faces);
-  report.method = fairing == SmoothFairing::Curvature ? FillMethod::Smooth
-                  : fairing == SmoothFairing::Tangent ? FillMethod::Liepa
-                                                      : FillMethod::Triangulation;
+  report.method = method;
   if (!smooth.faired && fairing != SmoothFairing::Triangulation)
     report.warning = hole_source(context.source, loop.id) +
                      ": CGAL's fairing failed; the refined patch is kept unfaired";
@@ -930,6 +931,12 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   const auto passed = [&](FillMethod method, const std::string& why) {
     reasons.push_back(std::string(to_string(method)) + ": " + without_prefix(why, where));
   };
+  // A step's own reasons (the LSCM flattening's failure before its repair)
+  // join the chain's.
+  const auto take_reasons = [&](HoleReport& report) {
+    reasons.insert(reasons.end(), report.fallback_reasons.begin(), report.fallback_reasons.end());
+    report.fallback_reasons.clear();
+  };
 
   std::vector<FillMethod> steps = {FillMethod::Fabric, FillMethod::Smooth, FillMethod::Liepa,
                                    FillMethod::Triangulation};
@@ -972,21 +979,14 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
         else
           patch.report.patch_min_angle_deg = patch_min_angle(context.mesh, patch);
       } else {
-        const SmoothFairing fairing = steps[k] == FillMethod::Smooth ? SmoothFairing::Curvature
-                                      : steps[k] == FillMethod::Liepa
-                                          ? SmoothFairing::Tangent
-                                          : SmoothFairing::Triangulation;
-        patch = fill_smooth(context, loop, fairing, std::move(patch));
+        patch = fill_smooth(context, loop, steps[k], std::move(patch));
         check_patch_shape(context.mesh, patch, last ? kDegenerateAngle : fallback.min_angle_deg,
                           where);
         if (!last)
           check_outside_obstacles(patch, context.options.obstacles, context.mesh,
                                   loop.mean_edge_length, where);
       }
-      // The repair's reason (the LSCM flattening's failure) comes last.
-      reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
-                     patch.report.fallback_reasons.end());
-      patch.report.fallback_reasons.clear();
+      take_reasons(patch.report);
       // The smooth fills and an unguarded fabric fill promise nothing.
       const bool guaranteed =
           steps[k] == FillMethod::Fabric && patch.report.start != StartKind::Unguarded;
@@ -1003,16 +1003,13 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
       return patch;
     } catch (const NoCleanStart& e) {
       fabric_deferred = true;
-      reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
-                     patch.report.fallback_reasons.end());
+      take_reasons(patch.report);
       passed(patch.report.method, e.what());
     } catch (const Error& e) {
       throw_if_cancelled(context, where);
       // Options that make no sense are the caller's to fix, not the hole's.
       if (!fallback.enabled || e.kind() == ErrorKind::Usage) throw;
-      // The LSCM step's reason is there already when the repair failed.
-      reasons.insert(reasons.end(), patch.report.fallback_reasons.begin(),
-                     patch.report.fallback_reasons.end());
+      take_reasons(patch.report);
       passed(
           patch.report.method == FillMethod::FabricRepaired ? FillMethod::FabricRepaired : steps[k],
           e.what());
