@@ -9,6 +9,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "foldfill/topology.h"
+
 namespace foldfill {
 namespace {
 
@@ -213,16 +215,15 @@ CutMesh cut_disk_hole(const DevelopableMesh& input, Vec2 center, double radius) 
   }
   // Grow the hole at vertices where the kept faces form several fans (the
   // hole's boundary would touch itself there) until there is none.
-  std::vector<std::vector<int>> vertex_faces(input.flat.size());
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (int v : faces[f]) vertex_faces[v].push_back(static_cast<int>(f));
-  }
+  const VertexFaces vertex_faces =
+      build_vertex_faces(faces, static_cast<int>(input.flat.size()), "example");
   for (bool changed = true; changed;) {
     changed = false;
-    for (size_t v = 0; v < vertex_faces.size(); ++v) {
+    for (int v = 0; v < vertex_faces.vertex_count(); ++v) {
       std::vector<int> kept;
       bool touches_hole = false;
-      for (int f : vertex_faces[v]) {
+      for (int k = vertex_faces.start[v]; k < vertex_faces.start[v + 1]; ++k) {
+        const int f = vertex_faces.faces[k];
         if (removed[f]) {
           touches_hole = true;
         } else {

@@ -15,6 +15,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "foldfill/box_tree.h"
 #include "foldfill/developability.h"
 #include "foldfill/domain.h"
 #include "foldfill/error.h"
@@ -1093,15 +1094,10 @@ std::vector<std::vector<int>> overlap_groups(const std::vector<Box3>& boxes) {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
     return i;
   };
-  // Sweep along x: a box meets only those that start before it ends.
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return boxes[a].low[0] < boxes[b].low[0]; });
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n && boxes[order[j]].low[0] <= boxes[order[i]].high[0]; ++j)
-      if (overlap(boxes[order[i]], boxes[order[j]]))
-        parent[std::max(root(order[i]), root(order[j]))] = std::min(root(order[i]), root(order[j]));
+  BoxTree(boxes).for_each_meeting_pair(0.0, [&](int a, int b) {
+    const int ra = root(a), rb = root(b);
+    parent[std::max(ra, rb)] = std::min(ra, rb);
+  });
   std::vector<std::vector<int>> groups;
   std::vector<int> group_of(n, -1);
   for (int i = 0; i < n; ++i) {

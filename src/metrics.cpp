@@ -13,10 +13,11 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
-#include <unordered_map>
 #include <utility>
 
+#include "foldfill/box_tree.h"
 #include "foldfill/error.h"
+#include "foldfill/topology.h"
 #include "foldfill/vec3.h"
 #include "triangle_geometry.h"
 
@@ -43,26 +44,6 @@ Vec3 face_normal(const std::vector<Vec3>& p, const Tri& f) {
 double normal_angle(const std::vector<Vec3>& p, const Tri& f, const Tri& g) {
   const Vec3 a = face_normal(p, f), b = face_normal(p, g);
   return std::atan2(norm(cross(a, b)), dot(a, b));
-}
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 |
-         static_cast<std::uint32_t>(b);
-}
-
-// (edge key, face) for every edge of every face, sorted: the faces that share
-// an edge are neighbours in the list.
-std::vector<std::pair<std::uint64_t, int>> sorted_edge_faces(const std::vector<Tri>& faces) {
-  std::vector<std::pair<std::uint64_t, int>> entries;
-  entries.reserve(3 * faces.size());
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      entries.emplace_back(edge_key(faces[f][k], faces[f][(k + 1) % 3]), static_cast<int>(f));
-    }
-  }
-  std::sort(entries.begin(), entries.end());
-  return entries;
 }
 
 using Triangle = Kernel::Triangle_3;
@@ -107,16 +88,10 @@ std::vector<Triangle> nondegenerate_triangles(const std::vector<Vec3>& positions
 
 // The bounding box of a face; `counted`: the face is one whose pairs count.
 struct FaceBox {
-  std::array<double, 3> low, high;
+  Box box;
   int face;
   bool counted;
 };
-
-bool overlap(const FaceBox& a, const FaceBox& b) {
-  for (int c = 0; c < 3; ++c)
-    if (a.high[c] < b.low[c] || b.high[c] < a.low[c]) return false;
-  return true;
-}
 
 // The boxes of the nondegenerate faces, and how many counted faces (index >=
 // counted_from) are degenerate: collinear or with a non-finite corner.
@@ -135,10 +110,10 @@ std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::v
       degenerate_counted += f >= counted_from;
       continue;
     }
-    FaceBox box{{}, {}, f, f >= counted_from};
+    FaceBox box{{}, f, f >= counted_from};
     for (int c = 0; c < 3; ++c) {
-      box.low[c] = std::min({p[c], q[c], r[c]});
-      box.high[c] = std::max({p[c], q[c], r[c]});
+      box.box.low[c] = std::min({p[c], q[c], r[c]});
+      box.box.high[c] = std::max({p[c], q[c], r[c]});
     }
     boxes.push_back(box);
   }
@@ -151,116 +126,30 @@ bool share_a_vertex(const Tri& f, const Tri& g) {
   return false;
 }
 
-// A uniform grid of cubic cells over boxes, about as wide as most boxes (see
-// the constants), so that a cell holds few boxes and a box overlaps few cells.
-class BoxGrid {
- public:
-  explicit BoxGrid(const std::vector<FaceBox>& boxes) {
-    origin_.fill(std::numeric_limits<double>::infinity());
-    std::array<double, 3> span{0, 0, 0};
-    std::vector<double> extents;
-    extents.reserve(boxes.size());
-    for (const FaceBox& box : boxes)
-      for (int c = 0; c < 3; ++c) origin_[c] = std::min(origin_[c], box.low[c]);
-    for (const FaceBox& box : boxes) {
-      double extent = 0;
-      for (int c = 0; c < 3; ++c) {
-        span[c] = std::max(span[c], box.high[c] - origin_[c]);
-        extent = std::max(extent, box.high[c] - box.low[c]);
-      }
-      extents.push_back(extent);
-    }
-    if (extents.empty()) return;
-    const auto typical =
-        extents.begin() + static_cast<std::ptrdiff_t>(kTypicalQuantile * (extents.size() - 1));
-    std::nth_element(extents.begin(), typical, extents.end());
-    const double widest = *std::max_element(typical, extents.end());
-    width_ = std::max(kTypicalWidth * *typical, widest / kMostCellsPerAxis);
-    if (!(width_ > 0)) return;  // only point boxes (no nondegenerate face): no cell
-    if (!std::isfinite(span[0] + span[1] + span[2] + width_)) {
-      size_ = {1, 1, 1};  // coordinates too far apart to subtract: one cell for all
-      return;
-    }
-    const double most_cells = kMaxCellsPerBox * static_cast<double>(boxes.size()) + 64;
-    while (true) {
-      double cells = 1;
-      for (int c = 0; c < 3; ++c) cells *= std::floor(span[c] / width_) + 1;
-      if (cells <= most_cells) break;
-      width_ *= std::cbrt(cells / most_cells) * (1 + 1e-9);
-    }
-    per_width_ = 1 / width_;
-    for (int c = 0; c < 3; ++c) size_[c] = static_cast<int>(span[c] * per_width_) + 1;
-  }
-
-  int cell_count() const { return size_[0] * size_[1] * size_[2]; }
-  // The cell of the point `corner` (any point of the boxes' hull).
-  int cell(const std::array<double, 3>& corner) const {
-    return (index(corner[2], 2) * size_[1] + index(corner[1], 1)) * size_[0] + index(corner[0], 0);
-  }
-  // Calls add(cell) for every cell that `box` overlaps.
-  template <typename Add>
-  void cells_of(const FaceBox& box, Add add) const {
-    for (int k = index(box.low[2], 2); k <= index(box.high[2], 2); ++k)
-      for (int j = index(box.low[1], 1); j <= index(box.high[1], 1); ++j)
-        for (int i = index(box.low[0], 0); i <= index(box.high[0], 0); ++i)
-          add((k * size_[1] + j) * size_[0] + i);
-  }
-
- private:
-  // Monotone in x, so that a box's cells hold every point of it.
-  int index(double x, int c) const {
-    const double at = (x - origin_[c]) * per_width_;
-    return at < size_[c] - 1 ? static_cast<int>(at) : size_[c] - 1;  // NaN: the last
-  }
-
-  // Cells 1.25 times as wide as the box extent (largest side) that 90% of
-  // the boxes do not exceed: a few long faces (a strip's faces can be several
-  // times longer than the patch's) would otherwise make the cells, and the
-  // pairs tested in them, several times too many. The best of the widths
-  // tried on the reference cases.
-  static constexpr double kTypicalQuantile = 0.9, kTypicalWidth = 1.25;
-  // ... but no box overlaps more than 5 cells per axis,
-  static constexpr double kMostCellsPerAxis = 4;
-  // and there are at most this many cells per box, all told.
-  static constexpr double kMaxCellsPerBox = 16;
-  std::array<double, 3> origin_{};
-  double width_ = 0, per_width_ = 0;
-  std::array<int, 3> size_{0, 0, 0};
-};
-
 // Calls visit(f, g) once for every pair of faces whose (closed) boxes overlap
-// and one of which is counted, until it returns false. Each box is entered in
-// the cells of a BoxGrid it overlaps (a counting sort by cell), and a pair is
-// visited in the one cell that holds the low corner of the boxes'
-// intersection, which both boxes overlap. A fill's faces are all of about one
-// size, so that a cell holds few boxes, and this grid finds the pairs in
-// less time than CGAL's box_self_intersection_d (a segment tree), which is
-// made for boxes of any sizes (docs/benchmarks.md).
+// and one of which is counted, until it returns false. The pairs come from
+// the shared box tree (foldfill/box_tree.h): the counted boxes against
+// themselves, then against the others, so that the pairs of two faces that
+// are not counted (the strip's, the rest of the mesh's) are never looked at.
 template <typename Visit>
 void for_each_overlapping_pair(const std::vector<FaceBox>& boxes, Visit visit) {
-  const BoxGrid grid(boxes);
-  const int cells = grid.cell_count();
-  if (cells == 0) return;
-  std::vector<int> start(cells + 1, 0);  // boxes of cell c: members[start[c], start[c + 1])
-  for (const FaceBox& box : boxes) grid.cells_of(box, [&](int c) { ++start[c + 1]; });
-  for (int c = 0; c < cells; ++c) start[c + 1] += start[c];
-  std::vector<int> members(start.back()), next(start.begin(), start.end() - 1);
-  for (int b = 0; b < static_cast<int>(boxes.size()); ++b)
-    grid.cells_of(boxes[b], [&](int c) { members[next[c]++] = b; });
-
-  for (int c = 0; c < cells; ++c) {
-    for (int p = start[c]; p < start[c + 1]; ++p) {
-      const FaceBox& a = boxes[members[p]];
-      for (int q = p + 1; q < start[c + 1]; ++q) {
-        const FaceBox& b = boxes[members[q]];
-        if (!(a.counted || b.counted) || !overlap(a, b)) continue;
-        const std::array<double, 3> corner{std::max(a.low[0], b.low[0]),
-                                           std::max(a.low[1], b.low[1]),
-                                           std::max(a.low[2], b.low[2])};
-        if (grid.cell(corner) == c && !visit(a.face, b.face)) return;
-      }
-    }
+  std::vector<Box> counted, others;
+  std::vector<int> counted_id, other_id;  // indices into `boxes`
+  for (int b = 0; b < static_cast<int>(boxes.size()); ++b) {
+    (boxes[b].counted ? counted : others).push_back(boxes[b].box);
+    (boxes[b].counted ? counted_id : other_id).push_back(b);
   }
+  if (counted.empty()) return;
+  const BoxTree counted_tree(counted);
+  bool go_on = true;
+  counted_tree.for_each_meeting_pair(0.0, [&](int i, int j) {
+    if (go_on) go_on = visit(boxes[counted_id[i]].face, boxes[counted_id[j]].face);
+  });
+  if (!go_on || others.empty()) return;
+  const BoxTree other_tree(others);
+  counted_tree.for_each_meeting_pair(other_tree, 0.0, [&](int i, int j) {
+    if (go_on) go_on = visit(boxes[counted_id[i]].face, boxes[other_id[j]].face);
+  });
 }
 
 // Whether the nondegenerate faces f and g of a manifold mesh intersect, by
@@ -314,7 +203,7 @@ bool face_box(const std::vector<Vec3>& positions, const Tri& f, Box3& box) {
 double box_gap(const FaceBox& a, const FaceBox& b) {
   double squared = 0;
   for (int c = 0; c < 3; ++c) {
-    const double gap = std::max({a.low[c] - b.high[c], b.low[c] - a.high[c], 0.0});
+    const double gap = std::max({a.box.low[c] - b.box.high[c], b.box.low[c] - a.box.high[c], 0.0});
     squared += gap * gap;
   }
   return std::sqrt(squared);
@@ -422,19 +311,25 @@ SurfaceDistance surface_distance(const std::vector<Vec3>& positions_a,
 std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
                                     const std::vector<Tri>& faces,
                                     const std::vector<std::array<int, 2>>& edges) {
-  const auto edge_faces = sorted_edge_faces(faces);
+  int vertex_count = 0;
+  for (const Tri& f : faces)
+    for (int v : f) vertex_count = std::max(vertex_count, v + 1);
+  const VertexFaces around = build_vertex_faces(faces, vertex_count, "dihedral angle");
   std::vector<double> angles;
   angles.reserve(edges.size());
   for (const auto& [a, b] : edges) {
-    const std::uint64_t key = edge_key(a, b);
-    const auto first =
-        std::lower_bound(edge_faces.begin(), edge_faces.end(), std::make_pair(key, -1));
-    if (std::distance(first, edge_faces.end()) < 2 || first[0].first != key ||
-        first[1].first != key || (first + 2 != edge_faces.end() && first[2].first == key)) {
+    int shared[3], count = 0;  // the faces of edge a-b, ascending
+    if (a >= 0 && a < vertex_count && b >= 0 && b < vertex_count && a != b) {
+      for (int k = around.start[a]; k < around.start[a + 1] && count < 3; ++k) {
+        const Tri& f = faces[around.faces[k]];
+        if (f[0] == b || f[1] == b || f[2] == b) shared[count++] = around.faces[k];
+      }
+    }
+    if (count != 2) {
       throw Error(ErrorKind::Usage, "dihedral angle: edge " + std::to_string(a) + "-" +
                                         std::to_string(b) + " is not shared by two faces");
     }
-    angles.push_back(normal_angle(positions, faces[first[0].second], faces[first[1].second]));
+    angles.push_back(normal_angle(positions, faces[shared[0]], faces[shared[1]]));
   }
   return angles;
 }
@@ -490,24 +385,7 @@ TriangleQuality triangle_quality(const std::vector<Vec3>& positions,
 
 std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>& faces,
                                        const std::vector<int>& seeds, int rings) {
-  // Vertex adjacency in compressed rows (both directions of every face edge).
-  std::vector<int> start(vertex_count + 1, 0);
-  for (const Tri& f : faces) {
-    for (int v : f) {
-      if (v < 0 || v >= vertex_count) {
-        throw Error(ErrorKind::Usage, "rings: vertex index " + std::to_string(v) + " out of range");
-      }
-      start[v + 1] += 2;
-    }
-  }
-  for (int v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
-  std::vector<int> neighbours(start.back()), next_slot(start.begin(), start.end() - 1);
-  for (const Tri& f : faces) {
-    for (int k = 0; k < 3; ++k) {
-      neighbours[next_slot[f[k]]++] = f[(k + 1) % 3];
-      neighbours[next_slot[f[k]]++] = f[(k + 2) % 3];
-    }
-  }
+  const VertexFaces vertex_faces = build_vertex_faces(faces, vertex_count, "rings");
   std::vector<int> distance(vertex_count, -1), frontier;
   for (int s : seeds) {
     if (s < 0 || s >= vertex_count) {
@@ -520,10 +398,12 @@ std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>&
   for (int ring = 1; ring <= rings && !frontier.empty(); ++ring) {
     std::vector<int> next;
     for (int v : frontier) {
-      for (int i = start[v]; i < start[v + 1]; ++i) {
-        if (distance[neighbours[i]] >= 0) continue;
-        distance[neighbours[i]] = ring;
-        next.push_back(neighbours[i]);
+      for (int k = vertex_faces.start[v]; k < vertex_faces.start[v + 1]; ++k) {
+        for (int w : faces[vertex_faces.faces[k]]) {
+          if (distance[w] >= 0) continue;
+          distance[w] = ring;
+          next.push_back(w);
+        }
       }
     }
     reached.insert(reached.end(), next.begin(), next.end());
@@ -557,65 +437,11 @@ std::vector<std::vector<int>> faces_near_boxes(const std::vector<Vec3>& position
                                                const std::vector<Tri>& faces,
                                                const std::vector<Box3>& boxes) {
   std::vector<std::vector<int>> near(boxes.size());
-  // Cells as wide as the widest box, so that a box is in at most 8 of them.
-  Box3 all;
-  all.low.fill(HUGE_VAL);
-  all.high.fill(-HUGE_VAL);
-  double width = 0;
-  for (const Box3& box : boxes) {
-    for (int c = 0; c < 3; ++c) {
-      if (!(box.low[c] <= box.high[c])) continue;
-      all.low[c] = std::min(all.low[c], box.low[c]);
-      all.high[c] = std::max(all.high[c], box.high[c]);
-      width = std::max(width, box.high[c] - box.low[c]);
-    }
-  }
-  if (!(all.low[0] <= all.high[0] && all.low[1] <= all.high[1] && all.low[2] <= all.high[2]))
-    return near;  // no box holds anything
-  if (!(width > 0) || !std::isfinite(width)) width = 1;
-  const auto index = [&](double x, int c) {
-    return static_cast<std::int64_t>(
-        std::floor((std::clamp(x, all.low[c], all.high[c]) - all.low[c]) / width));
-  };
-  const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull ^
-           static_cast<std::uint64_t>(j) * 0xC2B2AE3D27D4EB4Full ^
-           static_cast<std::uint64_t>(k) * 0x165667B19E3779F9ull;
-  };
-  std::unordered_map<std::uint64_t, std::vector<int>> cells;
-  for (int b = 0; b < static_cast<int>(boxes.size()); ++b) {
-    const Box3& box = boxes[b];
-    if (!(box.low[0] <= box.high[0] && box.low[1] <= box.high[1] && box.low[2] <= box.high[2]))
-      continue;
-    for (auto k = index(box.low[2], 2); k <= index(box.high[2], 2); ++k)
-      for (auto j = index(box.low[1], 1); j <= index(box.high[1], 1); ++j)
-        for (auto i = index(box.low[0], 0); i <= index(box.high[0], 0); ++i)
-          cells[key(i, j, k)].push_back(b);
-  }
-  // A face that spans more cells than this is tested against every box.
-  constexpr std::int64_t kMostCellsPerFace = 64;
+  const BoxTree tree(boxes);  // an empty or non-finite box meets nothing
   for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
     Box3 box;
-    if (!face_box(positions, faces[f], box) || !overlap(box, all)) continue;
-    const auto add = [&](int b) {
-      if (overlap(box, boxes[b]) && (near[b].empty() || near[b].back() != f)) near[b].push_back(f);
-    };
-    std::array<std::int64_t, 3> from, to;
-    for (int c = 0; c < 3; ++c) {
-      from[c] = index(box.low[c], c);
-      to[c] = index(box.high[c], c);
-    }
-    if ((to[0] - from[0] + 1) * (to[1] - from[1] + 1) * (to[2] - from[2] + 1) > kMostCellsPerFace) {
-      for (int b = 0; b < static_cast<int>(boxes.size()); ++b) add(b);
-      continue;
-    }
-    for (auto k = from[2]; k <= to[2]; ++k)
-      for (auto j = from[1]; j <= to[1]; ++j)
-        for (auto i = from[0]; i <= to[0]; ++i) {
-          const auto cell = cells.find(key(i, j, k));
-          if (cell == cells.end()) continue;
-          for (int b : cell->second) add(b);
-        }
+    if (!face_box(positions, faces[f], box)) continue;
+    tree.for_each_meeting(box, 0.0, [&](int b) { near[b].push_back(f); });
   }
   return near;
 }
@@ -661,7 +487,7 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
       result.within += counted;
       continue;
     }
-    FaceBox face{box.low, box.high, static_cast<int>(boxes.size()), counted};
+    FaceBox face{box, static_cast<int>(boxes.size()), counted};
     boxes.push_back(face);
     face_of.push_back(f);
     const geometry::Triangle corner = corners(positions, t);
@@ -672,8 +498,8 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
     centroid.push_back(middle);
     spread.push_back(farthest);
     for (int c = 0; c < 3; ++c) {
-      face.low[c] -= 0.5 * reach;
-      face.high[c] += 0.5 * reach;
+      face.box.low[c] -= 0.5 * reach;
+      face.box.high[c] += 0.5 * reach;
     }
     grown.push_back(face);
   }
@@ -681,7 +507,7 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
   for_each_overlapping_pair(grown, [&](int i, int j) {
     const int f = face_of[i], g = face_of[j];
     const bool intersect =
-        overlap(boxes[i], boxes[j]) && faces_intersect(positions, faces[f], faces[g]);
+        overlap(boxes[i].box, boxes[j].box) && faces_intersect(positions, faces[f], faces[g]);
     if (intersect) ++(boxes[i].counted && boxes[j].counted ? result.within : result.with_others);
     if (best > 0 && !share_a_vertex(faces[f], faces[g])) {
       if (intersect) {

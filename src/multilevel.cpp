@@ -10,6 +10,7 @@
 #include <cmath>
 #include <string>
 
+#include "foldfill/box_tree.h"
 #include "foldfill/error.h"
 #include "foldfill/vec3.h"
 
@@ -23,70 +24,53 @@ std::array<double, 3> barycentric(const Vec2& p, const Vec2& a, const Vec2& b, c
   return {wa, wb, 1 - wa - wb};
 }
 
-// Triangles of the plane bucketed by a uniform grid of about one triangle per
-// cell: a point's candidates are the triangles whose (slightly grown) bounding
-// box covers its cell.
-class TriangleGrid {
+// Triangles of the plane in the shared box tree (as boxes at z = 0): a
+// point's candidates are the triangles whose bounding boxes come within
+// `reach` of it, about the spacing of the triangles, so that a point that
+// rounding puts just outside the patch still finds its nearest triangles.
+class TriangleLocator {
  public:
-  TriangleGrid(const std::vector<Vec2>& points, const std::vector<Tri>& triangles)
+  TriangleLocator(const std::vector<Vec2>& points, const std::vector<Tri>& triangles)
       : points_(points), triangles_(triangles) {
-    min_ = max_ = points[triangles.at(0)[0]];
-    for (const Tri& t : triangles)
-      for (int v : t)
-        for (int d = 0; d < 2; ++d) {
-          min_[d] = std::min(min_[d], points[v][d]);
-          max_[d] = std::max(max_[d], points[v][d]);
-        }
-    const double width = max_[0] - min_[0], height = max_[1] - min_[1];
-    cell_ = std::sqrt(width * height / static_cast<double>(triangles.size()));
-    if (!(cell_ > 0)) cell_ = std::max({width, height, 1.0});
-    columns_ = static_cast<int>(width / cell_) + 1;
-    rows_ = static_cast<int>(height / cell_) + 1;
-    // A point that rounding puts just outside its triangle still finds it.
-    const double margin = 1e-9 * cell_;
-
-    std::vector<std::array<int, 4>> boxes;  // first column, last column, first row, last row
+    std::vector<Box3> boxes;
     boxes.reserve(triangles.size());
-    offsets_.assign(static_cast<size_t>(columns_) * rows_ + 1, 0);
+    Vec2 min = points[triangles.at(0)[0]], max = min;
     for (const Tri& t : triangles) {
-      Vec2 low = points[t[0]], high = points[t[0]];
+      Box3 box{{points[t[0]][0], points[t[0]][1], 0}, {points[t[0]][0], points[t[0]][1], 0}};
       for (int v : t)
         for (int d = 0; d < 2; ++d) {
-          low[d] = std::min(low[d], points[v][d]);
-          high[d] = std::max(high[d], points[v][d]);
+          box.low[d] = std::min(box.low[d], points[v][d]);
+          box.high[d] = std::max(box.high[d], points[v][d]);
+          min[d] = std::min(min[d], points[v][d]);
+          max[d] = std::max(max[d], points[v][d]);
         }
-      boxes.push_back({column(low[0] - margin), column(high[0] + margin), row(low[1] - margin),
-                       row(high[1] + margin)});
-      const std::array<int, 4>& box = boxes.back();
-      for (int y = box[2]; y <= box[3]; ++y)
-        for (int x = box[0]; x <= box[1]; ++x) ++offsets_[y * columns_ + x + 1];
+      boxes.push_back(box);
     }
-    for (size_t c = 1; c < offsets_.size(); ++c) offsets_[c] += offsets_[c - 1];
-    triangle_ids_.resize(offsets_.back());
-    std::vector<int> next(offsets_.begin(), offsets_.end() - 1);
-    for (size_t t = 0; t < boxes.size(); ++t) {
-      const std::array<int, 4>& box = boxes[t];
-      for (int y = box[2]; y <= box[3]; ++y)
-        for (int x = box[0]; x <= box[1]; ++x)
-          triangle_ids_[next[y * columns_ + x]++] = static_cast<int>(t);
-    }
+    reach_ =
+        std::sqrt((max[0] - min[0]) * (max[1] - min[1]) / static_cast<double>(triangles.size()));
+    if (!(reach_ > 0)) reach_ = std::max({max[0] - min[0], max[1] - min[1], 1.0});
+    tree_.build(boxes);
   }
 
-  // The triangle containing p, or where p lies outside all (by rounding), the
-  // one it is least outside of; with p's barycentric coordinates in it,
-  // clamped to the triangle. Throws when no triangle is near p.
+  // The triangle containing p (the first by index where several do), or
+  // where p lies outside all (by rounding), the one it is least outside of;
+  // with p's barycentric coordinates in it, clamped to the triangle. Throws
+  // when no triangle is near p.
   std::pair<int, std::array<double, 3>> locate(const Vec2& p) const {
-    const int c = row(p[1]) * columns_ + column(p[0]);
+    candidates_.clear();
+    tree_.for_each_meeting(Box3{{p[0], p[1], 0}, {p[0], p[1], 0}}, reach_,
+                           [&](int t) { candidates_.push_back(t); });
+    std::sort(candidates_.begin(), candidates_.end());
     int best = -1;
     std::array<double, 3> best_weights{};
     double best_inside = -INFINITY;  // the smallest barycentric coordinate
-    for (int k = offsets_[c]; k < offsets_[c + 1]; ++k) {
-      const Tri& t = triangles_[triangle_ids_[k]];
+    for (int id : candidates_) {
+      const Tri& t = triangles_[id];
       const std::array<double, 3> w = barycentric(p, points_[t[0]], points_[t[1]], points_[t[2]]);
       const double inside = std::min({w[0], w[1], w[2]});
       if (inside > best_inside) {
         best_inside = inside;
-        best = triangle_ids_[k];
+        best = id;
         best_weights = w;
       }
       if (inside >= 0) break;
@@ -100,19 +84,11 @@ class TriangleGrid {
   }
 
  private:
-  int column(double x) const {
-    return std::clamp(static_cast<int>(std::floor((x - min_[0]) / cell_)), 0, columns_ - 1);
-  }
-  int row(double y) const {
-    return std::clamp(static_cast<int>(std::floor((y - min_[1]) / cell_)), 0, rows_ - 1);
-  }
-
   const std::vector<Vec2>& points_;
   const std::vector<Tri>& triangles_;
-  Vec2 min_{}, max_{};
-  double cell_ = 1;
-  int columns_ = 1, rows_ = 1;
-  std::vector<int> offsets_, triangle_ids_;  // triangles of cell c: [offsets_[c], offsets_[c + 1])
+  double reach_ = 1;
+  BoxTree tree_;
+  mutable std::vector<int> candidates_;  // scratch of locate
 };
 
 void check_same_strip(const EmbedDomain& coarse, const std::vector<Vec3>& coarse_positions,
@@ -136,7 +112,7 @@ std::vector<Vec3> interpolate_patch(const EmbedDomain& coarse,
   if (fine.free_count() == 0) return positions;
   const std::vector<Tri> coarse_patch(coarse.faces.begin() + coarse.strip_face_count,
                                       coarse.faces.end());
-  const TriangleGrid grid(coarse.rest_uv, coarse_patch);
+  const TriangleLocator grid(coarse.rest_uv, coarse_patch);
   positions.reserve(fine.rest_uv.size());
   for (int v = fine.fixed_count; v < fine.vertex_count(); ++v) {
     const auto [triangle, weights] = grid.locate(fine.rest_uv[v]);

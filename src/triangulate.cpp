@@ -20,7 +20,9 @@
 #include <utility>
 #include <vector>
 
+#include "foldfill/box_tree.h"
 #include "foldfill/error.h"
+#include "foldfill/topology.h"
 #include "foldfill/vec3.h"
 
 namespace foldfill {
@@ -123,105 +125,43 @@ double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
 // The zone where interior points must not go: within kBoundaryMargin times
 // max(spacing, edge length) of a polygon edge. A point closer to an edge than
 // that would make a sliver with it, and since edges longer than the spacing
-// cannot be split, their triangles need their apex further out.
-//
-// Each edge's zone is bucketed in a uniform grid whose cells are at least its
-// radius wide, so that it covers a few cells and a query looks at one cell
-// per grid: one grid per power-of-two cell size, from `spacing` (or wider,
-// where the polygon's box would need more than `max_cells` cells).
+// cannot be split, their triangles need their apex further out. The edges'
+// boxes, grown by their radii, are held in the shared box tree, so that a
+// query looks only at the edges whose zone may hold the point.
 class KeepOutZone {
  public:
-  KeepOutZone(const std::vector<Vec2>& polygon, double spacing, double max_cells)
+  KeepOutZone(const std::vector<Vec2>& polygon, double spacing)
       : polygon_(polygon), spacing_(spacing) {
     const int n = static_cast<int>(polygon.size());
-    double reach = 0;
-    for (int e = 0; e < n; ++e) reach = std::max(reach, radius(e));
-    box_ = bounding_box(polygon);
-    box_.min = {box_.min[0] - reach, box_.min[1] - reach};
-    box_.max = {box_.max[0] + reach, box_.max[1] + reach};
-    const double finest = std::max(
-        spacing, std::sqrt((box_.max[0] - box_.min[0]) * (box_.max[1] - box_.min[1]) / max_cells));
-
-    std::vector<std::vector<std::pair<int, int>>> cell_edges;  // per grid: (cell, edge)
+    std::vector<Box3> boxes(n);
     for (int e = 0; e < n; ++e) {
+      const Vec2 &a = polygon[e], &b = polygon[(e + 1) % n];
       const double r = radius(e);
-      size_t level = 0;
-      while (finest * std::ldexp(1.0, static_cast<int>(level)) < r) ++level;
-      while (grids_.size() <= level) {
-        grids_.push_back(make_grid(finest * std::ldexp(1.0, static_cast<int>(grids_.size()))));
-        cell_edges.emplace_back();
-      }
-      // Pieces no longer than a cell, each with its box grown by the radius.
-      const Grid& grid = grids_[level];
-      const Vec2& a = polygon[e];
-      const Vec2& b = polygon[(e + 1) % n];
-      const int pieces = static_cast<int>(distance(a, b) / grid.cell) + 1;
-      for (int k = 0; k < pieces; ++k) {
-        const double t0 = static_cast<double>(k) / pieces, t1 = static_cast<double>(k + 1) / pieces;
-        const double x0 = a[0] + t0 * (b[0] - a[0]), x1 = a[0] + t1 * (b[0] - a[0]);
-        const double y0 = a[1] + t0 * (b[1] - a[1]), y1 = a[1] + t1 * (b[1] - a[1]);
-        for (int y = row(grid, std::min(y0, y1) - r); y <= row(grid, std::max(y0, y1) + r); ++y)
-          for (int x = column(grid, std::min(x0, x1) - r); x <= column(grid, std::max(x0, x1) + r);
-               ++x)
-            cell_edges[level].emplace_back(y * grid.columns + x, e);
-      }
+      boxes[e].low = {std::min(a[0], b[0]) - r, std::min(a[1], b[1]) - r, 0};
+      boxes[e].high = {std::max(a[0], b[0]) + r, std::max(a[1], b[1]) + r, 0};
     }
-    for (size_t level = 0; level < grids_.size(); ++level)
-      fill_cells(grids_[level], cell_edges[level]);
+    edges_.build(boxes);
   }
 
   bool contains(const Vec2& p) const {
     const int n = static_cast<int>(polygon_.size());
-    for (const Grid& grid : grids_) {
-      const int c = row(grid, p[1]) * grid.columns + column(grid, p[0]);
-      for (int k = grid.offsets[c]; k < grid.offsets[c + 1]; ++k) {
-        const int e = grid.edges[k];
-        if (point_segment_distance(p, polygon_[e], polygon_[(e + 1) % n]) < radius(e)) return true;
-      }
-    }
-    return false;
+    bool inside = false;
+    edges_.for_each_meeting(Box3{{p[0], p[1], 0}, {p[0], p[1], 0}}, 0.0, [&](int e) {
+      if (!inside && point_segment_distance(p, polygon_[e], polygon_[(e + 1) % n]) < radius(e))
+        inside = true;
+    });
+    return inside;
   }
 
  private:
-  struct Grid {
-    double cell = 0;
-    int columns = 0, rows = 0;
-    std::vector<int> offsets, edges;  // edges of cell c: edges[offsets[c], offsets[c + 1])
-  };
-
-  Grid make_grid(double cell) const {
-    Grid grid;
-    grid.cell = cell;
-    grid.columns = static_cast<int>((box_.max[0] - box_.min[0]) / cell) + 1;
-    grid.rows = static_cast<int>((box_.max[1] - box_.min[1]) / cell) + 1;
-    return grid;
-  }
-
-  static void fill_cells(Grid& grid, std::vector<std::pair<int, int>>& cell_edges) {
-    std::sort(cell_edges.begin(), cell_edges.end());
-    cell_edges.erase(std::unique(cell_edges.begin(), cell_edges.end()), cell_edges.end());
-    grid.offsets.assign(static_cast<size_t>(grid.columns) * grid.rows + 1, 0);
-    for (const auto& [c, e] : cell_edges) ++grid.offsets[c + 1];
-    for (size_t c = 1; c < grid.offsets.size(); ++c) grid.offsets[c] += grid.offsets[c - 1];
-    grid.edges.reserve(cell_edges.size());
-    for (const auto& ce : cell_edges) grid.edges.push_back(ce.second);
-  }
-
   double radius(int e) const {
     const int n = static_cast<int>(polygon_.size());
     return kBoundaryMargin * std::max(spacing_, distance(polygon_[e], polygon_[(e + 1) % n]));
   }
-  int column(const Grid& grid, double x) const {
-    return std::clamp(static_cast<int>((x - box_.min[0]) / grid.cell), 0, grid.columns - 1);
-  }
-  int row(const Grid& grid, double y) const {
-    return std::clamp(static_cast<int>((y - box_.min[1]) / grid.cell), 0, grid.rows - 1);
-  }
 
   const std::vector<Vec2>& polygon_;
   double spacing_;
-  Box box_;
-  std::vector<Grid> grids_;
+  BoxTree edges_;
 };
 
 // The points of a hexagonal lattice of spacing `spacing` inside the polygon
@@ -405,24 +345,6 @@ std::vector<Tri> flip_to_delaunay(const std::vector<Vec2>& uv, std::vector<Tri> 
   return faces;
 }
 
-// Faces around each vertex, as compressed rows.
-struct VertexFaces {
-  std::vector<int> offsets, faces;
-};
-
-VertexFaces vertex_faces(const std::vector<Tri>& faces, int vertex_count) {
-  VertexFaces star;
-  star.offsets.assign(vertex_count + 1, 0);
-  for (const Tri& f : faces)
-    for (int v : f) ++star.offsets[v + 1];
-  for (int v = 0; v < vertex_count; ++v) star.offsets[v + 1] += star.offsets[v];
-  star.faces.resize(star.offsets[vertex_count]);
-  std::vector<int> filled(star.offsets.begin(), star.offsets.end() - 1);
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
-    for (int v : faces[f]) star.faces[filled[v]++] = f;
-  return star;
-}
-
 Vec2 circumcenter(const Vec2& a, const Vec2& b, const Vec2& c) {
   const double bx = b[0] - a[0], by = b[1] - a[1], cx = c[0] - a[0], cy = c[1] - a[1];
   const double d = 2 * (bx * cy - by * cx);
@@ -433,7 +355,7 @@ Vec2 circumcenter(const Vec2& a, const Vec2& b, const Vec2& c) {
 // Whether every face around `v` stays counter-clockwise, by a margin, with v at p.
 bool star_stays_valid(const std::vector<Vec2>& uv, const std::vector<Tri>& faces,
                       const VertexFaces& star, int v, const Vec2& p, double min_twice_area) {
-  for (int k = star.offsets[v]; k < star.offsets[v + 1]; ++k) {
+  for (int k = star.start[v]; k < star.start[v + 1]; ++k) {
     Vec2 corner[3];
     for (int i = 0; i < 3; ++i)
       corner[i] = faces[star.faces[k]][i] == v ? p : uv[faces[star.faces[k]][i]];
@@ -450,12 +372,12 @@ bool star_stays_valid(const std::vector<Vec2>& uv, const std::vector<Tri>& faces
 void smooth_interior(std::vector<Vec2>& uv, const std::vector<Tri>& faces, int boundary_count,
                      double spacing, const KeepOutZone& keep_out) {
   const int vertex_count = static_cast<int>(uv.size());
-  const VertexFaces star = vertex_faces(faces, vertex_count);
+  const VertexFaces star = build_vertex_faces(faces, vertex_count);
   const double min_twice_area = 1e-3 * spacing * spacing;
   for (int v = boundary_count; v < vertex_count; ++v) {
     double weight = 0;
     Vec2 target{0, 0};
-    for (int k = star.offsets[v]; k < star.offsets[v + 1]; ++k) {
+    for (int k = star.start[v]; k < star.start[v + 1]; ++k) {
       const Tri& f = faces[star.faces[k]];
       const Vec2 &a = uv[f[0]], &b = uv[f[1]], &c = uv[f[2]];
       const Vec2 centre = circumcenter(a, b, c);
@@ -511,7 +433,7 @@ FlatPatch triangulate_hole(const std::vector<Vec2>& polygon, const TriangulateOp
   FlatPatch patch;
   patch.boundary_count = static_cast<int>(polygon.size());
   patch.uv = polygon;
-  const KeepOutZone keep_out(polygon, spacing, 4 * (polygon.size() + expected_interior) + 1024);
+  const KeepOutZone keep_out(polygon, spacing);
   const std::vector<Vec2> interior = interior_lattice(polygon, spacing, keep_out);
   patch.uv.insert(patch.uv.end(), interior.begin(), interior.end());
   patch.faces = constrained_delaunay(patch.uv, patch.boundary_count);

@@ -11,11 +11,9 @@
 
 namespace foldfill {
 
-// A closed axis-aligned box. A box with a non-finite coordinate or with low
-// above high anywhere is empty: it meets nothing.
-struct Box {
-  Vec3 low, high;
-};
+// A closed axis-aligned box (the mesh's Box3). A box with a non-finite
+// coordinate or with low above high anywhere is empty: it meets nothing.
+using Box = Box3;
 
 inline bool is_empty(const Box& box) {
   for (int c = 0; c < 3; ++c) {

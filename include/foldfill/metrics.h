@@ -115,8 +115,8 @@ struct TriangleQuality {
 TriangleQuality triangle_quality(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
 
 // The vertices at most `rings` edges away from `seeds` along the edges of
-// `faces`, seeds excluded, ascending. Throws Error(Usage) for an index
-// outside [0, vertex_count).
+// `faces`, seeds excluded, ascending. Throws Error(Usage) for a seed and
+// Error(BadFace) for a face index outside [0, vertex_count).
 std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>& faces,
                                        const std::vector<int>& seeds, int rings);
 
