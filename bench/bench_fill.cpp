@@ -42,6 +42,7 @@
 #include "foldfill/io.h"
 #include "foldfill/liepa.h"
 #include "foldfill/obstacles.h"
+#include "support/cloth_cases.h"
 #include "support/loops.h"
 #include "support/reference_cases.h"
 
@@ -62,11 +63,6 @@ double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const size_t n = values.size();
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-nlohmann::json read_json(const fs::path& path) {
-  std::ifstream in(path);
-  return in ? nlohmann::json::parse(in) : nlohmann::json();
 }
 
 std::vector<Case> reference_cases(const fs::path& shared) {
@@ -98,17 +94,12 @@ std::vector<Case> reference_cases(const fs::path& shared) {
 
 std::vector<Case> cloth_cases(const fs::path& shared) {
   std::vector<Case> cases;
-  const fs::path dir = shared / "data" / "cloth";
-  const nlohmann::json manifest = read_json(dir / "manifest.json");
-  if (manifest.is_null()) return cases;
-  for (const auto& c : manifest) {
+  for (const auto& c : foldfill::testing::read_cloth_cases(shared / "data" / "cloth")) {
     Case k;
-    k.name = c["case"].get<std::string>();
-    k.mesh = read_mesh((dir / (k.name + "_hole.obj")).string());
+    k.name = c.name;
+    k.mesh = read_mesh(c.hole_mesh.string());
     k.loops = find_boundary_loops(k.mesh, k.name);
-    const nlohmann::json meta = read_json(dir / (k.name + ".json"));
-    k.hole =
-        foldfill::testing::loop_through(k.loops, meta["hole_boundary"]["loop_hole_indices"][0]);
+    k.hole = foldfill::testing::loop_through(k.loops, c.hole_vertex);
     cases.push_back(std::move(k));
   }
   return cases;

@@ -17,6 +17,7 @@
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
 #include "foldfill/triangulate.h"
+#include "support/cloth_cases.h"
 #include "support/reference_cases.h"
 
 namespace {
@@ -29,15 +30,9 @@ constexpr int kRuns = 5;
 struct Case {
   std::string name;
   fs::path mesh;
-  int hole_vertex = -1;                // reference cases: a vertex of the hole loop
+  int hole_vertex = -1;                // a vertex of the hole loop
   std::optional<double> removed_area;  // cloth cases: the truth
 };
-
-nlohmann::json read_json(const fs::path& path) {
-  std::ifstream file(path);
-  if (!file) throw Error(ErrorKind::CannotRead, path.string() + ": cannot open");
-  return nlohmann::json::parse(file);
-}
 
 std::vector<Case> reference_cases(const fs::path& folder) {
   std::vector<Case> cases;
@@ -48,12 +43,8 @@ std::vector<Case> reference_cases(const fs::path& folder) {
 
 std::vector<Case> cloth_cases(const fs::path& folder) {
   std::vector<Case> cases;
-  const nlohmann::json manifest = read_json(folder / "manifest.json");
-  for (const auto& entry : manifest) {
-    const std::string name = entry["case"];
-    const double area = read_json(folder / (name + ".json"))["removed"]["area"];
-    cases.push_back({name, folder / (name + "_hole.obj"), -1, area});
-  }
+  for (const auto& entry : foldfill::testing::read_cloth_cases(folder))
+    cases.push_back({entry.name, entry.hole_mesh, entry.hole_vertex, entry.removed_area});
   return cases;
 }
 

@@ -43,6 +43,7 @@
 #include "foldfill/metrics.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/render.h"
+#include "support/cloth_cases.h"
 #include "support/loops.h"
 #include "support/reference_cases.h"
 
@@ -130,28 +131,22 @@ struct CaseResult {
 
 std::vector<Case> cloth_cases(const fs::path& dir) {
   std::vector<Case> cases;
-  std::ifstream manifest(dir / "manifest.json");
-  if (!manifest) return cases;
-  for (const auto& entry : nlohmann::json::parse(manifest)) {
+  for (const auto& entry : foldfill::testing::read_cloth_cases(dir)) {
     Case c;
-    c.name = entry["case"].get<std::string>();
+    c.name = entry.name;
     c.group = "cloth";
-    const std::string stem = (dir / c.name).string();
-    c.mesh = read_mesh(stem + "_hole.obj");
+    c.mesh = read_mesh(entry.hole_mesh.string());
     c.loops = find_boundary_loops(c.mesh, c.name);
-    std::ifstream meta_file(stem + ".json");
-    const nlohmann::json meta = nlohmann::json::parse(meta_file);
-    c.hole =
-        foldfill::testing::loop_through(c.loops, meta["hole_boundary"]["loop_hole_indices"][0]);
+    c.hole = foldfill::testing::loop_through(c.loops, entry.hole_vertex);
     Truth truth;
-    truth.full = read_mesh(stem + "_gt.obj");
-    truth.hole_to_full = meta["hole_to_gt"].get<std::vector<int>>();
-    const std::vector<int> removed_to_full = meta["removed_to_gt"].get<std::vector<int>>();
-    for (const Tri& f : read_mesh(stem + "_removed.obj").faces) {
+    truth.full = read_mesh(entry.truth_mesh.string());
+    truth.hole_to_full = entry.hole_to_truth;
+    const std::vector<int>& removed_to_full = entry.removed_to_truth;
+    for (const Tri& f : read_mesh(entry.removed_mesh.string()).faces) {
       truth.removed_faces.push_back(
           {removed_to_full.at(f[0]), removed_to_full.at(f[1]), removed_to_full.at(f[2])});
     }
-    truth.removed_area = meta["removed"]["area"];
+    truth.removed_area = entry.removed_area;
     c.truth = std::move(truth);
     cases.push_back(std::move(c));
   }

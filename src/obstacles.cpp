@@ -164,6 +164,13 @@ std::vector<Obstacle> parse_json(const std::string& text, const std::string& sou
     const std::string message = e.what();  // "[json.exception.KIND] problem"
     fail(source, "invalid JSON: " + message.substr(message.find(']') + 2));
   }
+  return obstacles_from_json(document, source);
+}
+
+}  // namespace
+
+std::vector<Obstacle> obstacles_from_json(const nlohmann::json& document,
+                                          const std::string& source) {
   const Json* list = &document;
   if (document.is_object()) {
     if (!document.contains("obstacles")) fail(source, "expected {\"obstacles\": [...]}");
@@ -183,6 +190,8 @@ std::vector<Obstacle> parse_json(const std::string& text, const std::string& sou
   }
   return obstacles;
 }
+
+namespace {
 
 double parse_number(const std::string& token, const std::string& where) {
   char* end = nullptr;

@@ -18,6 +18,7 @@
 #include "foldfill/io.h"
 #include "foldfill/test_surfaces.h"
 #include "foldfill/topology.h"
+#include "support/cloth_cases.h"
 #include "support/reference_cases.h"
 #include "test_support.h"
 
@@ -475,18 +476,18 @@ TEST(Holes, ReferenceCases) {
 // gives, and the default fills exactly that loop.
 TEST(Holes, ClothCasesDefaultFillsTheirHole) {
   FOLDFILL_REQUIRE_SHARED();
-  const auto folder = testing::shared_dir() / "data" / "cloth";
-  std::ifstream file(folder / "manifest.json");
-  ASSERT_TRUE(file) << "cannot open cloth/manifest.json";
-  const nlohmann::json cases = nlohmann::json::parse(file);
-  ASSERT_FALSE(cases.empty());
+  const auto cases = testing::read_cloth_cases(testing::shared_dir() / "data" / "cloth");
+  ASSERT_FALSE(cases.empty()) << "no cloth/manifest.json";
   for (const auto& entry : cases) {
-    const std::string name = entry["case"].get<std::string>() + "_hole.obj";
+    const std::string name = entry.hole_mesh.filename().string();
     SCOPED_TRACE(name);
-    const auto loops = find_boundary_loops(read_mesh((folder / name).string()), name);
+    const auto loops = find_boundary_loops(read_mesh(entry.hole_mesh.string()), name);
     const HoleChoice choice = select_holes(loops, {}, name);
     ASSERT_EQ(choice.fill.size(), 1u);
-    EXPECT_EQ(loops[choice.fill[0]].vertices.size(), entry["hole_boundary_vertices"].get<size_t>());
+    EXPECT_EQ(loops[choice.fill[0]].vertices.size(), static_cast<size_t>(entry.hole_loop_size));
+    EXPECT_EQ(std::count(loops[choice.fill[0]].vertices.begin(),
+                         loops[choice.fill[0]].vertices.end(), entry.hole_vertex),
+              1);
     EXPECT_EQ(choice.left_open.size(), loops.size() - 1);
   }
 }

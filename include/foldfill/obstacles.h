@@ -4,6 +4,7 @@
 
 #include <array>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,10 @@ Obstacle read_mesh_obstacle(const std::string& path);
 // naming `source` for malformed input, and the errors of read_mesh for a
 // mesh file that cannot be read.
 std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string& source);
+// The same for a JSON document already parsed: `{"obstacles": [...]}` or the
+// list alone (a mesh entry's file is relative to the folder of `source`).
+std::vector<Obstacle> obstacles_from_json(const nlohmann::json& document,
+                                          const std::string& source);
 std::vector<Obstacle> read_obstacles(const std::string& path);
 
 // Signed distance from `p` to the obstacle's surface (negative inside).

@@ -61,7 +61,7 @@ inline std::vector<ReferenceCase> read_reference_cases(const std::filesystem::pa
 // The case's obstacles, parsed as the CLI parses an obstacle file. Kept apart
 // from read_reference_cases, which then needs no link to the embed layer.
 inline std::vector<Obstacle> reference_obstacles(const ReferenceCase& c) {
-  return parse_obstacles(nlohmann::json{{"obstacles", c.obstacles}}.dump(), c.path.string());
+  return obstacles_from_json(c.obstacles, c.path.string());
 }
 
 }  // namespace foldfill::testing
