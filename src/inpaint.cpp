@@ -732,8 +732,13 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   // The weights, and what the patch must not cross.
   throw_if_cancelled(context, where);
   auto stage = Clock::now();
+  // The weights and the solver's settings of this hole: copies of the
+  // user's, derived per hole (the prototype's weights at this hole's length
+  // scale, the progress that also answers FillOptions::progress). The time
+  // limit is the hole's budget alone, counted from the start of the hole.
   EnergyOptions energy_options = options.energy;
   SolverOptions solver = options.solver;
+  solver.time_limit_seconds = 0;
   if (options.prototype)
     apply_prototype_weights(*options.prototype, domain.length_scale, energy_options, solver);
   report.lambda = energy_options.lambda;

@@ -275,6 +275,54 @@ TEST(InpaintLimits, CancellingFromTheProgressCallbackStopsEveryHole) {
   EXPECT_EQ(result.mesh.faces, mesh.faces);
 }
 
+// What the user sets is what is used: a fill reads its options and never
+// writes them, the user's solver.progress is called alongside
+// FillOptions::progress, and a conflict is an error rather than an override.
+TEST(InpaintOptions, BothProgressCallbacksAreCalledAndTheOptionsAreLeftAsSet) {
+  const Mesh mesh = four_holes().cut.mesh;
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const std::vector<int> holes = select_holes(loops, HoleSelection{}).fill;
+  std::atomic<int> solver_calls{0}, fill_calls{0};
+  FillOptions options;
+  options.energy.lambda = 0.003;
+  options.solver.time_limit_seconds = 60;
+  options.solver.progress = [&](const SolverProgress&) {
+    ++solver_calls;
+    return true;
+  };
+  options.progress = [&](int, const SolverProgress&) {
+    ++fill_calls;
+    return true;
+  };
+  const FillResult result = fill_holes(mesh, loops, holes, options, "sheet.obj");
+  ASSERT_FALSE(result.report.cancelled);
+  EXPECT_GT(solver_calls.load(), 0);
+  EXPECT_EQ(solver_calls.load(), fill_calls.load());
+  for (const HoleReport& hole : result.report.holes) {
+    ASSERT_TRUE(hole.filled) << hole.reason;
+    EXPECT_EQ(hole.lambda, 0.003);  // the weight asked for is the weight used
+  }
+  EXPECT_EQ(options.energy.lambda, 0.003);
+  EXPECT_EQ(options.solver.time_limit_seconds, 60);
+  EXPECT_TRUE(options.solver.progress);
+}
+
+TEST(InpaintOptions, PrototypeWeightsTogetherWithOwnWeightsAreAUsageError) {
+  const Mesh mesh = four_holes().cut.mesh;
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const std::vector<int> holes = select_holes(loops, HoleSelection{}).fill;
+  FillOptions options;
+  options.prototype = PrototypeWeights{};
+  options.energy.repulsion = 0.5;
+  try {
+    fill_holes(mesh, loops, holes, options, "sheet.obj");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Usage);
+    EXPECT_NE(std::string(e.what()).find("set one or the other"), std::string::npos) << e.what();
+  }
+}
+
 TEST(InpaintLimits, CancellingLaterKeepsTheHolesAlreadyFilled) {
   const Mesh mesh = four_holes().cut.mesh;
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
