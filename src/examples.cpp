@@ -22,24 +22,6 @@ double distance(const Vec3& a, const Vec3& b) {
 
 // A grid of `columns` x `rows` vertices, vertex (i, j) at index j * columns + i,
 // split into triangles with alternating diagonals (no preferred direction).
-std::vector<Tri> grid_faces(int columns, int rows) {
-  std::vector<Tri> faces;
-  faces.reserve(2 * static_cast<size_t>(columns - 1) * (rows - 1));
-  for (int j = 0; j + 1 < rows; ++j) {
-    for (int i = 0; i + 1 < columns; ++i) {
-      const int a = j * columns + i, b = a + 1, c = a + columns + 1, d = a + columns;
-      if ((i + j) % 2 == 0) {
-        faces.push_back({a, b, c});
-        faces.push_back({a, c, d});
-      } else {
-        faces.push_back({a, b, d});
-        faces.push_back({b, c, d});
-      }
-    }
-  }
-  return faces;
-}
-
 int segments_for(double length, double edge_length) {
   return std::max(1, static_cast<int>(std::lround(length / edge_length)));
 }
@@ -63,7 +45,7 @@ DevelopableMesh extrude_curve(const std::vector<std::array<double, 2>>& curve, d
       result.flat.push_back({u[i], y});
     }
   }
-  result.mesh.faces = grid_faces(columns, rows);
+  result.mesh.faces = grid_triangles(columns, rows);
   return result;
 }
 
@@ -165,7 +147,7 @@ DevelopableMesh make_cone_section(double half_angle, double r0, double r1, doubl
       result.flat.push_back({r * std::cos(flat_angle[i]), -r * std::sin(flat_angle[i])});
     }
   }
-  result.mesh.faces = grid_faces(columns, rows);
+  result.mesh.faces = grid_triangles(columns, rows);
   return result;
 }
 
@@ -258,6 +240,27 @@ CutMesh cut_disk_hole(const DevelopableMesh& input, Vec2 center, double radius) 
     }
   }
   return result;
+}
+
+std::vector<Tri> grid_triangles(int columns, int rows, bool wrap_columns, bool wrap_rows) {
+  std::vector<Tri> faces;
+  const int cell_columns = wrap_columns ? columns : columns - 1;
+  const int cell_rows = wrap_rows ? rows : rows - 1;
+  for (int j = 0; j < cell_rows; ++j) {
+    for (int i = 0; i < cell_columns; ++i) {
+      const int i1 = (i + 1) % columns, j1 = (j + 1) % rows;
+      const int a = j * columns + i, b = j * columns + i1, c = j1 * columns + i1,
+                d = j1 * columns + i;
+      if ((i + j) % 2 == 0) {
+        faces.push_back({a, b, c});
+        faces.push_back({a, c, d});
+      } else {
+        faces.push_back({a, b, d});
+        faces.push_back({b, c, d});
+      }
+    }
+  }
+  return faces;
 }
 
 }  // namespace foldfill

@@ -78,31 +78,6 @@ Mesh icosphere(int subdivisions) {
   return mesh;
 }
 
-// A grid of `columns` x `rows` vertices (vertex (i, j) at j * columns + i),
-// each cell split into two triangles counter-clockwise in (i, j), with
-// alternating diagonals; `wrap_columns` joins column columns - 1 to column 0,
-// `wrap_rows` row rows - 1 to row 0.
-std::vector<Tri> grid_triangles(int columns, int rows, bool wrap_columns, bool wrap_rows) {
-  std::vector<Tri> faces;
-  const int cell_columns = wrap_columns ? columns : columns - 1;
-  const int cell_rows = wrap_rows ? rows : rows - 1;
-  for (int j = 0; j < cell_rows; ++j) {
-    for (int i = 0; i < cell_columns; ++i) {
-      const int i1 = (i + 1) % columns, j1 = (j + 1) % rows;
-      const int a = j * columns + i, b = j * columns + i1, c = j1 * columns + i1,
-                d = j1 * columns + i;
-      if ((i + j) % 2 == 0) {
-        faces.push_back({a, b, c});
-        faces.push_back({a, c, d});
-      } else {
-        faces.push_back({a, b, d});
-        faces.push_back({b, c, d});
-      }
-    }
-  }
-  return faces;
-}
-
 int segments_for(double length, double edge_length) {
   return std::max(3, static_cast<int>(std::lround(length / edge_length)));
 }

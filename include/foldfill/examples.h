@@ -8,6 +8,13 @@
 
 namespace foldfill {
 
+// A grid of `columns` x `rows` vertices (vertex (i, j) at j * columns + i),
+// each cell split into two triangles counter-clockwise in (i, j), with
+// alternating diagonals; `wrap_columns` joins column columns - 1 to column 0,
+// `wrap_rows` row rows - 1 to row 0 (tubes and tori).
+std::vector<Tri> grid_triangles(int columns, int rows, bool wrap_columns = false,
+                                bool wrap_rows = false);
+
 // A mesh together with the flat (developed) position of every vertex: the map
 // from `flat` to `mesh.positions` is an isometry.
 struct DevelopableMesh {
