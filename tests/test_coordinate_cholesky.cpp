@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "coordinate_cholesky.h"
+#include "embed/coordinate_cholesky.h"
 #include "foldfill/error.h"
 
 namespace foldfill {

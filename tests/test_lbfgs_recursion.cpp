@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "lbfgs_recursion.h"
+#include "embed/lbfgs_recursion.h"
 
 namespace foldfill {
 namespace {

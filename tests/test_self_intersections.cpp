@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "foldfill/metrics.h"
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {

@@ -51,7 +51,7 @@ class ObstacleMesh {
   bool crosses(const std::array<Vec3, 3>& triangle) const;
   double distance(const std::array<Vec3, 3>& triangle, double limit) const;
 
-  struct Search;  // the CGAL structures (src/obstacle_mesh.cpp)
+  struct Search;  // the CGAL structures (src/embed/obstacle_mesh.cpp)
 
  private:
   Mesh mesh_;

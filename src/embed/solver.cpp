@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
-#include "coordinate_cholesky.h"
+#include "embed/coordinate_cholesky.h"
 #include "foldfill/error.h"
-#include "lbfgs_recursion.h"
+#include "embed/lbfgs_recursion.h"
 
 namespace foldfill {
 namespace {

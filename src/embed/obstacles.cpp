@@ -1,6 +1,6 @@
 // Rigid obstacles: parsing (JSON or the prototype's text lines), signed
 // distances, projection of inside points to the nearest surface point, and
-// whether a triangle crosses into them. Mesh obstacles are src/obstacle_mesh.cpp's.
+// whether a triangle crosses into them. Mesh obstacles are src/embed/obstacle_mesh.cpp's.
 #include "foldfill/obstacles.h"
 
 #include <algorithm>
@@ -16,7 +16,7 @@
 #include "foldfill/error.h"
 #include "foldfill/io.h"
 #include "foldfill/vec3.h"
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {

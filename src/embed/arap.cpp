@@ -28,7 +28,7 @@
 #include <optional>
 #include <string>
 
-#include "coordinate_cholesky.h"
+#include "embed/coordinate_cholesky.h"
 #include "foldfill/error.h"
 
 namespace foldfill {

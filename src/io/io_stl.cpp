@@ -5,7 +5,7 @@
 // one vertex, vertices numbered by first occurrence.
 #include <cmath>
 
-#include "io_detail.h"
+#include "io/io_detail.h"
 
 namespace foldfill::io_detail {
 namespace {

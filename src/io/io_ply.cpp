@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "io_detail.h"
+#include "io/io_detail.h"
 
 namespace foldfill::io_detail {
 namespace {

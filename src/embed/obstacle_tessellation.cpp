@@ -11,7 +11,7 @@
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/vec3.h"
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {

@@ -1,7 +1,7 @@
 // Object File Format: an `OFF` header, the counts `V F [E]`, V vertex lines and
 // F face lines `n i0 ... i(n-1)`, with `#` comments. Values after the
 // coordinates or indices on a line (colours, normals of COFF / NOFF) are skipped.
-#include "io_detail.h"
+#include "io/io_detail.h"
 
 namespace foldfill::io_detail {
 namespace {

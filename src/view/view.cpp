@@ -20,7 +20,7 @@
 
 namespace foldfill {
 namespace assets {
-// Generated at build time (src/embed_assets.cpp): the files of src/view/ and
+// Generated at build time (src/view/embed_assets.cpp): the files of src/view/ and
 // three.js (empty when the build had no node_modules/three).
 std::string_view view_html();
 std::string_view view_css();

@@ -20,7 +20,7 @@
 //   loop they oversubscribe the cores, and the calling thread spins at their
 //   barriers (a large share of a small fill's time on loaded cores), so they
 //   run with no active level (the setting is restored after).
-#include "coordinate_cholesky.h"
+#include "embed/coordinate_cholesky.h"
 
 #include <cholmod.h>
 #include <omp.h>

@@ -1,4 +1,4 @@
-#include "lbfgs_recursion.h"
+#include "embed/lbfgs_recursion.h"
 
 namespace foldfill {
 

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "foldfill/file.h"
-#include "io_detail.h"
+#include "io/io_detail.h"
 
 namespace foldfill {
 namespace io_detail {

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <climits>
 
-#include "io_detail.h"
+#include "io/io_detail.h"
 
 namespace foldfill::io_detail {
 namespace {

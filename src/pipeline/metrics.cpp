@@ -19,7 +19,7 @@
 #include "foldfill/error.h"
 #include "foldfill/topology.h"
 #include "foldfill/vec3.h"
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {

@@ -1,6 +1,6 @@
 // Point, segment and triangle distances (Ericson, "Real-Time Collision
 // Detection", 2005, sections 5.1.5 and 5.1.9).
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 #include <algorithm>
 #include <cmath>

@@ -25,7 +25,7 @@
 #include "foldfill/multilevel.h"
 #include "foldfill/smooth_fill.h"
 #include "foldfill/topology.h"
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {

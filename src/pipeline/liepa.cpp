@@ -12,7 +12,7 @@
 
 #include "foldfill/error.h"
 #include "foldfill/marks.h"
-#include "triangle_geometry.h"
+#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {
