@@ -46,6 +46,11 @@ DEFAULT_REPULSION = 1.0
 # Steps of the status bar's progress: each hole gets an equal share.
 PROGRESS_STEPS = 1000
 
+# The values the last fill showed in the status bar's progress, in order
+# (the last one is PROGRESS_STEPS when the fill finished): for scripts and
+# tests that want to see what a user saw.
+last_progress = []
+
 
 def _load_foldfill(context):
     """The foldfill module, or raise ImportError saying where it was looked for."""
@@ -198,15 +203,25 @@ so that the folds of the cloth continue through them"""
                 state["error"] = e
 
         wm = context.window_manager
+        shown = []
+        last_progress[:] = []
+
+        def show(value):
+            wm.progress_update(value)
+            shown.append(value)
+
         wm.progress_begin(0, PROGRESS_STEPS)
         try:
             worker = threading.Thread(target=work, name="foldfill")
             worker.start()
             while worker.is_alive():
                 worker.join(0.1)
-                wm.progress_update(int(state["value"]))
+                show(int(state["value"]))
+            if state["error"] is None:
+                show(PROGRESS_STEPS)
         finally:
             wm.progress_end()
+            last_progress[:] = shown
         if state["error"] is not None:
             raise state["error"]
         return state["result"]
