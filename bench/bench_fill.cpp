@@ -65,14 +65,20 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+// The mesh of `path` and its loop through `hole_vertex`, at the defaults.
+Case load_case(const std::string& name, const fs::path& path, int hole_vertex) {
+  Case k;
+  k.name = name;
+  k.mesh = read_mesh(path.string());
+  k.loops = find_boundary_loops(k.mesh, k.name);
+  k.hole = foldfill::testing::loop_through(k.loops, hole_vertex);
+  return k;
+}
+
 std::vector<Case> reference_cases(const fs::path& shared) {
   std::vector<Case> cases;
   for (const auto& c : foldfill::testing::read_reference_cases(shared / "data" / "reference")) {
-    Case k;
-    k.name = c.file;
-    k.mesh = read_mesh(c.path.string());
-    k.loops = find_boundary_loops(k.mesh, k.name);
-    k.hole = foldfill::testing::loop_through(k.loops, c.hole_vertex);
+    Case k = load_case(c.file, c.path, c.hole_vertex);
     PrototypeWeights weights;
     weights.alpha = c.alpha;
     weights.beta = c.beta;
@@ -94,14 +100,8 @@ std::vector<Case> reference_cases(const fs::path& shared) {
 
 std::vector<Case> cloth_cases(const fs::path& shared) {
   std::vector<Case> cases;
-  for (const auto& c : foldfill::testing::read_cloth_cases(shared / "data" / "cloth")) {
-    Case k;
-    k.name = c.name;
-    k.mesh = read_mesh(c.hole_mesh.string());
-    k.loops = find_boundary_loops(k.mesh, k.name);
-    k.hole = foldfill::testing::loop_through(k.loops, c.hole_vertex);
-    cases.push_back(std::move(k));
-  }
+  for (const auto& c : foldfill::testing::read_cloth_cases(shared / "data" / "cloth"))
+    cases.push_back(load_case(c.name, c.hole_mesh, c.hole_vertex));
   return cases;
 }
 

@@ -279,9 +279,6 @@ TEST(InpaintLimits, CancellingFromTheProgressCallbackStopsEveryHole) {
 // writes them, the user's solver.progress is called alongside
 // FillOptions::progress, and a conflict is an error rather than an override.
 TEST(InpaintOptions, BothProgressCallbacksAreCalledAndTheOptionsAreLeftAsSet) {
-  const Mesh mesh = four_holes().cut.mesh;
-  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
-  const std::vector<int> holes = select_holes(loops, HoleSelection{}).fill;
   std::atomic<int> solver_calls{0}, fill_calls{0};
   FillOptions options;
   options.energy.lambda = 0.003;
@@ -294,8 +291,9 @@ TEST(InpaintOptions, BothProgressCallbacksAreCalledAndTheOptionsAreLeftAsSet) {
     ++fill_calls;
     return true;
   };
-  const FillResult result = fill_holes(mesh, loops, holes, options, "sheet.obj");
+  const FillResult result = fill_default(four_holes().cut.mesh, options);
   ASSERT_FALSE(result.report.cancelled);
+  ASSERT_EQ(result.report.holes.size(), 4u);
   EXPECT_GT(solver_calls.load(), 0);
   EXPECT_EQ(solver_calls.load(), fill_calls.load());
   for (const HoleReport& hole : result.report.holes) {
@@ -308,14 +306,11 @@ TEST(InpaintOptions, BothProgressCallbacksAreCalledAndTheOptionsAreLeftAsSet) {
 }
 
 TEST(InpaintOptions, PrototypeWeightsTogetherWithOwnWeightsAreAUsageError) {
-  const Mesh mesh = four_holes().cut.mesh;
-  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
-  const std::vector<int> holes = select_holes(loops, HoleSelection{}).fill;
   FillOptions options;
   options.prototype = PrototypeWeights{};
   options.energy.repulsion = 0.5;
   try {
-    fill_holes(mesh, loops, holes, options, "sheet.obj");
+    fill_default(four_holes().cut.mesh, options);
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::Usage);
