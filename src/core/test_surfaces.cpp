@@ -471,15 +471,31 @@ HoledSurface make_holed_sleeve(const SleeveSurfaceOptions& options) {
   return cut.finish({0, (rings - 1) * around});
 }
 
-HoledSurface make_sheet_with_long_hole(const SheetSurfaceOptions& options) {
+namespace {
+
+// A square sheet of side `size` with one fold across it.
+DevelopableMesh one_fold_sheet(double size, double edge_length, double amplitude) {
   FoldedSheetOptions sheet;
-  sheet.width = sheet.height = options.size;
-  sheet.edge_length = options.edge_length;
-  sheet.amplitude = options.amplitude;
+  sheet.width = sheet.height = size;
+  sheet.edge_length = edge_length;
+  sheet.amplitude = amplitude;
   sheet.folds = 1;
-  const DevelopableMesh folded = make_folded_sheet(sheet);
-  double flat_width = 0;
-  for (const Vec2& uv : folded.flat) flat_width = std::max(flat_width, uv[0]);
+  return make_folded_sheet(sheet);
+}
+
+// The largest flat u of a sheet: its developed width.
+double flat_extent(const DevelopableMesh& sheet) {
+  double width = 0;
+  for (const Vec2& uv : sheet.flat) width = std::max(width, uv[0]);
+  return width;
+}
+
+}  // namespace
+
+HoledSurface make_sheet_with_long_hole(const SheetSurfaceOptions& options) {
+  const DevelopableMesh folded =
+      one_fold_sheet(options.size, options.edge_length, options.amplitude);
+  const double flat_width = flat_extent(folded);
   SurfaceCut cut(folded.mesh);
   cut.remove_where(cut.add_region(true), [&](int f) {
     double u = 0, v = 0;
@@ -560,14 +576,9 @@ HoledSurface make_box_with_corner_hole(const BoxSurfaceOptions& options) {
 }
 
 HoledSurface make_sheet_with_small_holes(const SmallHolesSurfaceOptions& options) {
-  FoldedSheetOptions sheet;
-  sheet.width = sheet.height = options.size;
-  sheet.edge_length = options.edge_length;
-  sheet.amplitude = options.amplitude;
-  sheet.folds = 1;
-  const DevelopableMesh folded = make_folded_sheet(sheet);
-  double flat_width = 0;
-  for (const Vec2& uv : folded.flat) flat_width = std::max(flat_width, uv[0]);
+  const DevelopableMesh folded =
+      one_fold_sheet(options.size, options.edge_length, options.amplitude);
+  const double flat_width = flat_extent(folded);
   SurfaceCut cut(folded.mesh);
   for (int count = 1; count <= 3; ++count) {
     const Vec2 target{flat_width * count / 4, options.size / 2};
