@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "foldfill/box_tree.h"
 #include "foldfill/domain.h"
 
 namespace foldfill {
@@ -77,13 +78,6 @@ class FabricEnergy {
   // repulsion_skin() when they were last searched, sorted by (i, j).
   const std::vector<RepulsionPair>& repulsion_candidates() const { return repulsion_pairs_; }
   double repulsion_skin() const { return repulsion_skin_; }
-  // How the candidate pairs are searched (see energy.cpp): in a grid of cells
-  // of `cell_size` holding `grid_vertices`, and around each of the few
-  // long-edged `wide_vertices`, which are fixed.
-  struct RepulsionSearch {
-    std::vector<int> grid_vertices, wide_vertices;
-    double cell_size = 0;
-  };
   // The two-ring model's bending springs (weight lambda), empty for quadratic.
   const std::vector<Spring>& two_ring_springs() const { return two_ring_springs_; }
   // Constant bending Hessian over all domain vertices (per coordinate) for the
@@ -113,7 +107,10 @@ class FabricEnergy {
   mutable std::vector<RepulsionPair> repulsion_pairs_;
   mutable Points repulsion_anchor_;
   double repulsion_skin_ = 0;  // 0: no vertex repels (all radii 0)
-  RepulsionSearch repulsion_search_;
+  // The pair search's box trees (energy.cpp: build_repulsion_pairs).
+  mutable BoxTree repulsion_fixed_tree_, repulsion_free_tree_;
+  mutable double repulsion_free_tree_cost_ = 0;
+  void build_repulsion_pairs() const;
   void update_repulsion_pairs() const;
 };
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 
+#include "foldfill/box_tree.h"
 #include "foldfill/error.h"
 #include "foldfill/topology.h"
 
@@ -233,264 +234,87 @@ double quadratic_bending_energy(const Eigen::SparseMatrix<double, Eigen::RowMajo
   return 0.5 * (sum + fixed_energy);
 }
 
-// Points grouped by the cubic cell of a uniform grid that holds them. Occupied
-// cells are found through an open-addressing hash table of their packed
-// coordinates, so far-flung points cost nothing. Within a cell the points keep
-// increasing index order, so its fixed points (index < fixed_count) come
-// first; each point is stored with its radius so that a cell's candidates are
-// contiguous.
-class CellGrid {
- public:
-  struct Cell {
-    int64_t coordinate[3];
-    int start = 0, first_free = 0, end = 0;  // point ranges in vertex_ / entry_
-  };
-
-  // The points of `vertices` (finite positions only) in cells of `cell_size`.
-  CellGrid(const Points& points, const std::vector<double>& radius,
-           const std::vector<int>& vertices, int fixed_count, double cell_size)
-      : inverse_cell_(1 / cell_size) {
-    int bits = 1;
-    while ((size_t{1} << bits) < 2 * vertices.size()) ++bits;  // load <= 1/2
-    shift_ = 64 - bits;
-    slots_.assign(size_t{1} << bits, Slot{kEmpty, -1});
-    std::vector<int> cell_of_point;
-    cell_of_point.reserve(vertices.size());
-    for (int v : vertices) {
-      const double p[3] = {points(v, 0), points(v, 1), points(v, 2)};
-      // A non-finite coordinate makes every distance to the point NaN or
-      // infinite: it is close to nothing.
-      if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
-        cell_of_point.push_back(-1);
-        continue;
-      }
-      const int c = find_or_insert({cell_of(p[0]), cell_of(p[1]), cell_of(p[2])});
-      ++cells_[c].end;  // counts for now
-      cells_[c].first_free += v < fixed_count;
-      cell_of_point.push_back(c);
-    }
-    int end = 0;
-    for (Cell& cell : cells_) {
-      const int count = cell.end;
-      cell.start = end;
-      cell.first_free += end;
-      cell.end = end;  // the cursor of the fill below
-      end += count;
-    }
-    vertex_.resize(end);
-    entry_.resize(4 * static_cast<size_t>(end));
-    for (size_t k = 0; k < vertices.size(); ++k) {
-      if (cell_of_point[k] < 0) continue;
-      const int v = vertices[k], at = cells_[cell_of_point[k]].end++;
-      vertex_[at] = v;
-      double* entry = &entry_[4 * static_cast<size_t>(at)];
-      for (int a = 0; a < 3; ++a) entry[a] = points(v, a);
-      entry[3] = radius[v];
-    }
-  }
-
-  const std::vector<Cell>& cells() const { return cells_; }
-  int vertex(int k) const { return vertex_[k]; }
-  // x, y, z and radius of the k-th point.
-  const double* entry(int k) const { return &entry_[4 * static_cast<size_t>(k)]; }
-
-  // The occupied cells one step from `cell` along each axis (diagonals too)
-  // that follow it in (z, y, x) order, so that every pair of neighbouring
-  // cells is one cell and one of its forward neighbours; returns their count.
-  int forward_neighbours(const Cell& cell, const Cell* neighbour[13]) const {
-    // Each key is the OR of its three packed coordinates.
-    const uint64_t x[3] = {pack_x(cell.coordinate[0] - 1), pack_x(cell.coordinate[0]),
-                           pack_x(cell.coordinate[0] + 1)};
-    const uint64_t y[3] = {pack_y(cell.coordinate[1] - 1), pack_y(cell.coordinate[1]),
-                           pack_y(cell.coordinate[1] + 1)};
-    const uint64_t z[2] = {pack_z(cell.coordinate[2]), pack_z(cell.coordinate[2] + 1)};
-    const uint64_t keys[13] = {x[2] | y[1] | z[0], x[0] | y[2] | z[0], x[1] | y[2] | z[0],
-                               x[2] | y[2] | z[0], x[0] | y[0] | z[1], x[1] | y[0] | z[1],
-                               x[2] | y[0] | z[1], x[0] | y[1] | z[1], x[1] | y[1] | z[1],
-                               x[2] | y[1] | z[1], x[0] | y[2] | z[1], x[1] | y[2] | z[1],
-                               x[2] | y[2] | z[1]};
-    int count = 0;
-    for (uint64_t key : keys) {
-      if (const Cell* other = find(key)) neighbour[count++] = other;
-    }
-    return count;
-  }
-
-  // Calls visit(cell) for every occupied cell that may hold a point within
-  // `reach` of the finite point `p`, each once.
-  template <typename Visit>
-  void for_each_cell_near(const double p[3], double reach, Visit&& visit) const {
-    // Cells up to k away along each axis; the margin covers the rounding of
-    // the cell coordinates.
-    const double span = reach * inverse_cell_ + 1e-6;
-    const int64_t k = span < kKeyPeriod ? static_cast<int64_t>(span) + 1 : kKeyPeriod;
-    const int64_t centre[3] = {cell_of(p[0]), cell_of(p[1]), cell_of(p[2])};
-    // A small box is looked up cell by cell; a large one (a vertex with a long
-    // edge in a fine grid) tests every occupied cell instead, modulo the key
-    // period like the keys themselves so that cells sharing a key go together.
-    if (2 * k + 1 < kKeyPeriod &&
-        std::pow(2 * k + 1, 3) < 0.125 * static_cast<double>(cells_.size())) {
-      for (int64_t z = centre[2] - k; z <= centre[2] + k; ++z)
-        for (int64_t y = centre[1] - k; y <= centre[1] + k; ++y)
-          for (int64_t x = centre[0] - k; x <= centre[0] + k; ++x) {
-            if (const Cell* cell = find(pack(x, y, z))) visit(*cell);
-          }
-      return;
-    }
-    const auto within = [&](const Cell& cell, int a) {
-      return ((cell.coordinate[a] - centre[a] + k) & (kKeyPeriod - 1)) <= 2 * k;
-    };
-    for (const Cell& cell : cells_) {
-      if (within(cell, 0) && within(cell, 1) && within(cell, 2)) visit(cell);
-    }
-  }
-
- private:
-  // Cell coordinates saturate at +-2^30, far beyond any real extent, where the
-  // rounding of coordinate * inverse_cell_ is still far below a cell.
-  static constexpr double kLimit = 1 << 30;
-  int64_t cell_of(double coordinate) const {
-    const double scaled = coordinate * inverse_cell_;
-    if (!(scaled < kLimit)) return static_cast<int64_t>(kLimit);
-    if (!(scaled >= -kLimit)) return -static_cast<int64_t>(kLimit) - 1;
-    // floor() by truncation: a call to libm's floor is slower.
-    const int64_t truncated = static_cast<int64_t>(scaled);
-    return truncated - (scaled < static_cast<double>(truncated));
-  }
-  // 21 bits per axis: cells 2^21 apart share a key and so a Cell, which only
-  // adds candidates (neighbourhood is kept modulo 2^21).
-  static constexpr int64_t kKeyPeriod = int64_t{1} << 21;
-  static uint64_t pack_x(int64_t x) { return static_cast<uint64_t>(x) & (kKeyPeriod - 1); }
-  static uint64_t pack_y(int64_t y) { return pack_x(y) << 21; }
-  static uint64_t pack_z(int64_t z) { return pack_x(z) << 42; }
-  static uint64_t pack(int64_t x, int64_t y, int64_t z) {
-    return pack_x(x) | pack_y(y) | pack_z(z);
-  }
-  size_t home(uint64_t key) const { return (key * 0x9E3779B97F4A7C15ULL) >> shift_; }
-  size_t next(size_t s) const { return (s + 1) & (slots_.size() - 1); }
-
-  int find_or_insert(const std::array<int64_t, 3>& coordinate) {
-    const uint64_t key = pack(coordinate[0], coordinate[1], coordinate[2]);
-    size_t s = home(key);
-    for (; slots_[s].key != kEmpty; s = next(s)) {
-      if (slots_[s].key == key) return slots_[s].cell;
-    }
-    slots_[s] = {key, static_cast<int>(cells_.size())};
-    cells_.push_back({{coordinate[0], coordinate[1], coordinate[2]}});
-    return slots_[s].cell;
-  }
-  const Cell* find(uint64_t key) const {
-    for (size_t s = home(key); slots_[s].key != kEmpty; s = next(s)) {
-      if (slots_[s].key == key) return &cells_[slots_[s].cell];
-    }
-    return nullptr;
-  }
-
-  double inverse_cell_;
-  int shift_ = 63;
-  struct Slot {
-    uint64_t key;  // packed coordinates, kEmpty: no cell
-    int cell;      // index into cells_
-  };
-  static constexpr uint64_t kEmpty = ~uint64_t{0};  // no packed key sets the top bit
-  std::vector<Slot> slots_;
-  std::vector<Cell> cells_;
-  std::vector<int> vertex_;    // grouped by cell
-  std::vector<double> entry_;  // x, y, z, radius of vertex_
-};
-
 using RepulsionPair = FabricEnergy::RepulsionPair;
-using RepulsionSearch = FabricEnergy::RepulsionSearch;
 
-// Vertices of radius up to this times the largest radius of a free vertex
-// share the grid (whose cells grow with it); the rest search on their own.
-constexpr double kGridRadiusFactor = 1.25;
-
-// Every free vertex has a radius of at most `patch_radius`; fixed vertices up
-// to kGridRadiusFactor times that join them in the grid, whose cells are then
-// wider than any pair of grid vertices reaches: r_ij + skin, computed as in
-// build_repulsion_pairs so that rounding cannot make a pair reach further.
-RepulsionSearch repulsion_search(const std::vector<double>& radius, double patch_radius,
-                                 double skin) {
-  RepulsionSearch search;
-  double grid_radius = patch_radius;
-  for (int v = 0; v < static_cast<int>(radius.size()); ++v) {
-    if (radius[v] <= kGridRadiusFactor * patch_radius) {
-      search.grid_vertices.push_back(v);
-      grid_radius = std::max(grid_radius, radius[v]);
-    } else {
-      search.wide_vertices.push_back(v);
-    }
+// The box of vertex v for the repulsion's pair search: around it by half its
+// radius plus half the skin (a little more, for rounding), so that the boxes
+// of a pair that reaches r_ij + skin meet. A non-finite position makes an
+// empty box, which meets nothing.
+Box repulsion_box(const Points& points, const std::vector<double>& radius, double skin, int v) {
+  const double reach = (0.5 * radius[v] + 0.5 * skin) * (1 + 1e-6) + 1e-9;
+  Box box;
+  for (int c = 0; c < 3; ++c) {
+    box.low[c] = points(v, c) - reach;
+    box.high[c] = points(v, c) + reach;
   }
-  // A margin for the rounding of the cell coordinates (below 2^30 * 2^-53 of
-  // a cell, see CellGrid::cell_of).
-  search.cell_size = (0.5 * (grid_radius + patch_radius) + skin) * (1 + 1e-6);
-  return search;
+  return box;
 }
+
+// A refitted tree whose search cost grew past this factor of its cost when
+// built is built again (the vertices moved far from where they were).
+constexpr double kRepulsionRebuildFactor = 2;
+
+}  // namespace
 
 // The candidate pairs of the repulsion (a "Verlet list"): every pair (i > j,
 // i free, not joined by an edge) closer than its radius r_ij = (r_i + r_j) / 2
-// plus `skin` at `points`, sorted by (i, j). While no vertex is more than
-// skin / 2 away from where it was at the build, every pair closer than its
-// radius is in the list, so summing over the list is summing over all pairs;
-// the order makes the sum independent of when the list was built (and of how
-// the pairs were found).
+// plus the skin at the current positions, sorted by (i, j). While no vertex is
+// more than skin / 2 away from where it was at the build, every pair closer
+// than its radius is in the list, so summing over the list is summing over all
+// pairs; the order makes the sum independent of when the list was built (and
+// of how the pairs were found).
 //
-// A pair of grid vertices lies in one cell or two neighbouring ones. A wide
-// vertex is fixed (its radius exceeds every free vertex's), so its pairs are
-// with free vertices of smaller radius: it searches those as far as its own
-// radius plus the skin reaches.
-void build_repulsion_pairs(const Points& points, const std::vector<double>& radius, int fixed_count,
-                           const VertexGraph& graph, double skin, const RepulsionSearch& search,
-                           std::vector<RepulsionPair>& pairs) {
-  const int n = static_cast<int>(points.rows());
-  const CellGrid grid(points, radius, search.grid_vertices, fixed_count, search.cell_size);
+// The pairs are found by the shared box tree (repulsion_box): the free
+// vertices against each other, and against the fixed ones, whose tree is
+// built once; two fixed vertices never repel. The free vertices' tree is
+// refitted from search to search, and built again when it has grown slow.
+void FabricEnergy::build_repulsion_pairs() const {
+  const int n = static_cast<int>(points_.rows()), fixed_count = domain_.fixed_count;
+  const double skin = repulsion_skin_;
+  if (repulsion_fixed_tree_.box_count() != fixed_count) {
+    std::vector<Box> fixed_boxes(fixed_count);
+    for (int v = 0; v < fixed_count; ++v)
+      fixed_boxes[v] = repulsion_box(points_, repulsion_radius_, skin, v);
+    repulsion_fixed_tree_.build(fixed_boxes);
+  }
+  std::vector<Box> free_boxes(n - fixed_count);
+  for (int v = fixed_count; v < n; ++v)
+    free_boxes[v - fixed_count] = repulsion_box(points_, repulsion_radius_, skin, v);
+  const bool refit = repulsion_free_tree_.box_count() == n - fixed_count;
+  if (refit) repulsion_free_tree_.refit(free_boxes);
+  if (!refit || repulsion_free_tree_.cost() > kRepulsionRebuildFactor * repulsion_free_tree_cost_) {
+    repulsion_free_tree_.build(free_boxes);
+    repulsion_free_tree_cost_ = repulsion_free_tree_.cost();
+  }
+
+  const VertexGraph graph{neighbour_start_, neighbours_};
   std::vector<RepulsionPair> found;
-  // Vertex a at pa (x, y, z, radius) and the grid's l-th point.
-  const auto consider = [&](int a, const double* pa, int l) {
-    const double* pb = grid.entry(l);
-    const double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
-    const double r = 0.5 * (pa[3] + pb[3]);
+  const auto consider = [&](int a, int b) {
+    const double d[3] = {points_(a, 0) - points_(b, 0), points_(a, 1) - points_(b, 1),
+                         points_(a, 2) - points_(b, 2)};
+    const double r = 0.5 * (repulsion_radius_[a] + repulsion_radius_[b]);
     if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < (r + skin) * (r + skin))) return;
-    const int b = grid.vertex(l), i = std::max(a, b), j = std::min(a, b);
+    const int i = std::max(a, b), j = std::min(a, b);
     if (!graph.adjacent(i, j)) found.push_back({i, j, r});
   };
-  // Pairs of two fixed vertices never repel: a fixed point meets only the
-  // free points, which follow the fixed ones in each cell.
-  const CellGrid::Cell* neighbour[13];
-  for (const CellGrid::Cell& cell : grid.cells()) {
-    const int neighbour_count = grid.forward_neighbours(cell, neighbour);
-    for (int k = cell.start; k < cell.end; ++k) {
-      const int a = grid.vertex(k);
-      const double* pa = grid.entry(k);
-      const bool fixed = k < cell.first_free;
-      for (int l = std::max(k + 1, fixed ? cell.first_free : 0); l < cell.end; ++l)
-        consider(a, pa, l);
-      for (int m = 0; m < neighbour_count; ++m) {
-        const CellGrid::Cell& other = *neighbour[m];
-        for (int l = fixed ? other.first_free : other.start; l < other.end; ++l) consider(a, pa, l);
-      }
-    }
-  }
-  for (int a : search.wide_vertices) {
-    const double pa[4] = {points(a, 0), points(a, 1), points(a, 2), radius[a]};
-    if (!(std::isfinite(pa[0]) && std::isfinite(pa[1]) && std::isfinite(pa[2]))) continue;
-    grid.for_each_cell_near(pa, pa[3] + skin, [&](const CellGrid::Cell& cell) {
-      for (int l = cell.first_free; l < cell.end; ++l) consider(a, pa, l);
-    });
-  }
+  repulsion_free_tree_.for_each_meeting_pair(
+      0.0, [&](int a, int b) { consider(fixed_count + a, fixed_count + b); });
+  repulsion_free_tree_.for_each_meeting_pair(repulsion_fixed_tree_, 0.0,
+                                             [&](int a, int b) { consider(fixed_count + a, b); });
   // Counting sort by i, then each i's few pairs by j.
   std::vector<int> start(n + 1, 0);
   for (const RepulsionPair& pair : found) ++start[pair.i + 1];
   for (int v = 0; v < n; ++v) start[v + 1] += start[v];
-  pairs.resize(found.size());
+  repulsion_pairs_.resize(found.size());
   std::vector<int> fill(start.begin(), start.end() - 1);
-  for (const RepulsionPair& pair : found) pairs[fill[pair.i]++] = pair;
+  for (const RepulsionPair& pair : found) repulsion_pairs_[fill[pair.i]++] = pair;
   for (int v = fixed_count; v < n; ++v) {
-    std::sort(pairs.begin() + start[v], pairs.begin() + start[v + 1],
+    std::sort(repulsion_pairs_.begin() + start[v], repulsion_pairs_.begin() + start[v + 1],
               [](const RepulsionPair& p, const RepulsionPair& q) { return p.j < q.j; });
   }
 }
+
+namespace {
 
 // Whether some free vertex moved further than `limit` from `anchor` (also
 // when a position is not finite).
@@ -551,7 +375,6 @@ FabricEnergy::FabricEnergy(const EmbedDomain& domain, const EnergyOptions& optio
   };
   const double patch_radius = largest(domain_.fixed_count);
   repulsion_skin_ = kRepulsionSkin * (patch_radius > 0 ? patch_radius : largest(0));
-  repulsion_search_ = repulsion_search(repulsion_radius_, patch_radius, repulsion_skin_);
   points_.setZero(n, 3);
   for (int v = 0; v < domain_.fixed_count; ++v) {
     for (int c = 0; c < 3; ++c) points_(v, c) = domain_.fixed_positions[v][c];
@@ -614,9 +437,7 @@ void FabricEnergy::update_repulsion_pairs() const {
       !moved_beyond(points_, repulsion_anchor_, domain_.fixed_count, 0.5 * repulsion_skin_)) {
     return;
   }
-  build_repulsion_pairs(points_, repulsion_radius_, domain_.fixed_count,
-                        VertexGraph{neighbour_start_, neighbours_}, repulsion_skin_,
-                        repulsion_search_, repulsion_pairs_);
+  build_repulsion_pairs();
   repulsion_anchor_ = points_;
 }
 
