@@ -35,7 +35,7 @@ struct Case {
 
 nlohmann::json read_json(const fs::path& path) {
   std::ifstream file(path);
-  if (!file) throw Error(ErrorKind::CannotRead, path.string() + ": cannot open");
+  if (!file) throw CannotReadError(path.string() + ": cannot open");
   return nlohmann::json::parse(file);
 }
 
@@ -68,7 +68,7 @@ BoundaryLoop pick_hole(const std::vector<BoundaryLoop>& loops, const Case& c) {
                             : std::find(outer.begin(), outer.end(), loop.id) == outer.end();
     if (chosen) return loop;
   }
-  throw Error(ErrorKind::Usage, c.name + ": no hole loop found");
+  throw UsageError(c.name + ": no hole loop found");
 }
 
 void print_row(const Case& c) {

@@ -283,7 +283,7 @@ bool faces_intersect(const std::vector<Vec3>& positions, const Tri& f, const Tri
   }
   auto corner = [&](const Tri& t, int k) { return point(positions[t[k % 3]]); };
   if (shared == 3) {
-    throw Error(ErrorKind::Internal, "self-intersection test: the faces do not form a manifold");
+    throw InternalError("self-intersection test: the faces do not form a manifold");
   }
   if (shared == 2) {
     const Kernel::Point_3 a = corner(f, f_own + 1), b = corner(f, f_own + 2),
@@ -410,7 +410,7 @@ SurfaceDistance surface_distance(const std::vector<Vec3>& positions_a,
   const std::vector<Triangle> triangles_a = nondegenerate_triangles(positions_a, faces_a);
   const std::vector<Triangle> triangles_b = nondegenerate_triangles(positions_b, faces_b);
   if (triangles_a.empty() || triangles_b.empty()) {
-    throw Error(ErrorKind::Usage, "surface distance: a surface has no non-degenerate triangle");
+    throw UsageError("surface distance: a surface has no non-degenerate triangle");
   }
   const TriangleTree tree_a(triangles_a.begin(), triangles_a.end());
   const TriangleTree tree_b(triangles_b.begin(), triangles_b.end());
@@ -431,8 +431,8 @@ std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
         std::lower_bound(edge_faces.begin(), edge_faces.end(), std::make_pair(key, -1));
     if (std::distance(first, edge_faces.end()) < 2 || first[0].first != key ||
         first[1].first != key || (first + 2 != edge_faces.end() && first[2].first == key)) {
-      throw Error(ErrorKind::Usage, "dihedral angle: edge " + std::to_string(a) + "-" +
-                                        std::to_string(b) + " is not shared by two faces");
+      throw UsageError("dihedral angle: edge " + std::to_string(a) + "-" + std::to_string(b) +
+                       " is not shared by two faces");
     }
     angles.push_back(normal_angle(positions, faces[first[0].second], faces[first[1].second]));
   }
@@ -495,7 +495,7 @@ std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>&
   for (const Tri& f : faces) {
     for (int v : f) {
       if (v < 0 || v >= vertex_count) {
-        throw Error(ErrorKind::Usage, "rings: vertex index " + std::to_string(v) + " out of range");
+        throw UsageError("rings: vertex index " + std::to_string(v) + " out of range");
       }
       start[v + 1] += 2;
     }
@@ -511,7 +511,7 @@ std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>&
   std::vector<int> distance(vertex_count, -1), frontier;
   for (int s : seeds) {
     if (s < 0 || s >= vertex_count) {
-      throw Error(ErrorKind::Usage, "rings: seed " + std::to_string(s) + " out of range");
+      throw UsageError("rings: seed " + std::to_string(s) + " out of range");
     }
     if (distance[s] < 0) frontier.push_back(s);
     distance[s] = 0;
