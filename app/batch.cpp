@@ -61,11 +61,9 @@ std::vector<fs::path> meshes_in_folder(const fs::path& folder) {
       files.push_back(entry->path());
     }
   }
-  if (ec)
-    throw Error(ErrorKind::CannotRead, folder.string() + ": cannot list (" + ec.message() + ")");
+  if (ec) throw CannotReadError(folder.string() + ": cannot list (" + ec.message() + ")");
   if (files.empty()) {
-    throw Error(ErrorKind::Usage,
-                folder.string() + ": no mesh file (.obj, .ply, .off, .stl) in this folder");
+    throw UsageError(folder.string() + ": no mesh file (.obj, .ply, .off, .stl) in this folder");
   }
   std::sort(files.begin(), files.end());
   return files;
@@ -76,9 +74,9 @@ std::vector<fs::path> meshes_in_folder(const fs::path& folder) {
 void refuse_input_folder(const fs::path& input_folder, const fs::path& out_dir) {
   std::error_code ec;
   if (fs::exists(out_dir, ec) && fs::equivalent(input_folder, out_dir, ec)) {
-    throw Error(ErrorKind::Usage, out_dir.string() +
-                                      ": is the folder of the inputs; choose another output "
-                                      "folder (an input is never overwritten)");
+    throw UsageError(out_dir.string() +
+                     ": is the folder of the inputs; choose another output "
+                     "folder (an input is never overwritten)");
   }
 }
 
@@ -92,9 +90,9 @@ std::vector<BatchItem> plan_batch(const FillArgs& args) {
   const fs::path out_dir = args.output;
   std::error_code ec;
   if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec)) {
-    throw Error(ErrorKind::Usage, args.output +
-                                      ": not a folder (with several inputs or a folder, -o "
-                                      "names the output folder)");
+    throw UsageError(args.output +
+                     ": not a folder (with several inputs or a folder, -o "
+                     "names the output folder)");
   }
   std::vector<BatchItem> items;
   std::map<std::string, std::string> input_of_output;
@@ -110,8 +108,8 @@ std::vector<BatchItem> plan_batch(const FillArgs& args) {
                      args.flat_dir.empty() ? "" : (fs::path(args.flat_dir) / name).string()};
       const auto [previous, inserted] = input_of_output.emplace(item.output, item.input);
       if (!inserted) {
-        throw Error(ErrorKind::Usage, item.output + ": both " + previous->second + " and " +
-                                          item.input + " would be written here");
+        throw UsageError(item.output + ": both " + previous->second + " and " + item.input +
+                         " would be written here");
       }
       items.push_back(std::move(item));
     }
@@ -299,8 +297,8 @@ std::string single_output_path(const std::string& input, const FillArgs& args) {
   if (fs::is_directory(output, ec)) {
     output = (fs::path(output) / output_name(input, args.format)).string();
   } else if (!args.format.empty() && lowercase_extension(output) != "." + args.format) {
-    throw Error(ErrorKind::Usage, "--format " + args.format + " contradicts -o " + output +
-                                      " (--format names outputs written into a folder)");
+    throw UsageError("--format " + args.format + " contradicts -o " + output +
+                     " (--format names outputs written into a folder)");
   }
   format_from_path(output);  // an unknown extension fails before any work
   return output;
@@ -354,8 +352,7 @@ int run_batch(FillArgs args) {
   std::error_code ec;
   fs::create_directories(args.output, ec);
   if (ec) {
-    throw Error(ErrorKind::CannotWrite,
-                args.output + ": cannot create the folder (" + ec.message() + ")");
+    throw CannotWriteError(args.output + ": cannot create the folder (" + ec.message() + ")");
   }
 
   std::vector<FileOutcome> outcomes(items.size());

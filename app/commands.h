@@ -26,7 +26,7 @@ struct SelectionArgs {
   int max_hole_size = 0;         // --max-hole-size (boundary edges); 0: none
   double max_hole_diameter = 0;  // --max-hole-diameter (mean edge lengths of the mesh); 0: none
 
-  // Throws Error(Usage) for a malformed --holes list or options that
+  // Throws UsageError for a malformed --holes list or options that
   // contradict each other (--keep-open with --holes or --near, --near with
   // --holes all or auto).
   void check() const;
@@ -101,7 +101,7 @@ FileFill choose_holes(const Mesh& mesh, const std::string& source, const Selecti
 // and, when `flat_dir` is set, each hole's flat strip and patch into it; stores
 // the report in `fill`. A hole that cannot be filled is left open and
 // reported. `progress` may be empty; the fill is cancelled when a signal comes
-// (interrupt.h). Throws Error(CannotWrite) when an output cannot be written,
+// (interrupt.h). Throws CannotWriteError when an output cannot be written,
 // Interrupted, with nothing written, when a signal came.
 void fill_and_write(const Mesh& mesh, const std::string& source, const std::string& output,
                     const std::string& flat_dir, const FillArgs& args,
@@ -124,7 +124,7 @@ int fill_single(const Mesh& mesh, const std::string& source, const std::string& 
                 const std::vector<std::string>& read_warnings = {});
 
 // Where `fill` with one input file writes: `args.output`, or a file named
-// like the input inside it when it is a folder. Throws Error(Usage) when
+// like the input inside it when it is a folder. Throws UsageError when
 // --format contradicts the output's extension or it is not a mesh format's.
 std::string single_output_path(const std::string& input, const FillArgs& args);
 
@@ -136,17 +136,17 @@ void check_single_paths(const std::string& input, const std::string& output, con
 // `fill` with several inputs or a folder: the obstacles read once
 // (load_obstacles), each file filled and written into the output folder, a
 // summary, the batch report. Returns the exit code (0, or
-// kBatchFailedExitCode when a file failed). Throws Error(Usage) before any
+// kBatchFailedExitCode when a file failed). Throws UsageError before any
 // work for an output folder that is an input folder, two inputs that would
 // be written to the same file, or any path written that is an input or
-// another path written (PathPlan::check), Error(CannotWrite) for one that
+// another path written (PathPlan::check), CannotWriteError for one that
 // cannot be written; Interrupted when a signal came (the files written by
 // then stay, the report is not written).
 int run_batch(FillArgs args);
 
 // The mesh files of `args.inputs` in order: files as given, each folder's
-// mesh files sorted by name. Throws Error(Usage) for a folder without any,
-// Error(CannotRead) for one that cannot be listed.
+// mesh files sorted by name. Throws UsageError for a folder without any,
+// CannotReadError for one that cannot be listed.
 std::vector<std::string> input_files(const FillArgs& args);
 
 // `fill --dry-run`: per input file, each loop, whether the selection fills it

@@ -106,8 +106,7 @@ FillOptions make_fill_options(const FillArgs& args) {
 void write_flat_meshes(const FillReport& report, const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec)
-    throw Error(ErrorKind::CannotWrite, dir + ": cannot create the folder (" + ec.message() + ")");
+  if (ec) throw CannotWriteError(dir + ": cannot create the folder (" + ec.message() + ")");
   for (const HoleReport& hole : report.holes) {
     if (!hole.filled) continue;
     write_mesh(hole.flat_strip,
@@ -188,20 +187,19 @@ void plan_obstacle_reads(const FillArgs& args, PathPlan& plan) {
 
 void SelectionArgs::check() const {
   if (!holes.empty() && holes != "all" && holes != "auto" && !parse_loop_ids(holes)) {
-    throw Error(ErrorKind::Usage,
-                "--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
+    throw UsageError("--holes: '" + holes + "' is not 'all', 'auto' or a list of loop ids");
   }
   if (near.size() % 3 != 0) {
-    throw Error(ErrorKind::Usage, "--near: each point needs three numbers, x,y,z");
+    throw UsageError("--near: each point needs three numbers, x,y,z");
   }
   if (keep_open >= 0 && (!holes.empty() || !near.empty())) {
-    throw Error(ErrorKind::Usage,
-                "--keep-open: not with --holes or --near (it is a choice of its own: all but "
-                "the N longest loops)");
+    throw UsageError(
+        "--keep-open: not with --holes or --near (it is a choice of its own: all but "
+        "the N longest loops)");
   }
   if (!near.empty() && (holes == "all" || holes == "auto")) {
-    throw Error(ErrorKind::Usage, "--near: not with --holes " + holes +
-                                      " (--near names loops; so does --holes with loop ids)");
+    throw UsageError("--near: not with --holes " + holes +
+                     " (--near names loops; so does --holes with loop ids)");
   }
 }
 

@@ -168,7 +168,7 @@ int run_holes(const std::string& path, const SelectionArgs& args, bool json) {
 int run_fill(FillArgs args) {
   args.selection.check();
   if (args.dry_run) return run_dry_run(args);
-  if (args.output.empty()) throw Error(ErrorKind::Usage, "--output is required");
+  if (args.output.empty()) throw UsageError("--output is required");
   std::error_code ec;
   if (args.inputs.size() > 1 || fs::is_directory(args.inputs.front(), ec)) return run_batch(args);
   const std::string input = args.inputs.front();
@@ -255,8 +255,7 @@ int run_demo(const std::string& out_dir, FillArgs args) {
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) {
-    throw Error(ErrorKind::CannotWrite,
-                out_dir + ": cannot create the folder (" + ec.message() + ")");
+    throw CannotWriteError(out_dir + ": cannot create the folder (" + ec.message() + ")");
   }
   const DevelopableMesh sheet = make_folded_sheet();
   const CutMesh cut = cut_disk_hole(sheet, {2.6, 1.5}, 0.7);

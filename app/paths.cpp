@@ -50,7 +50,7 @@ bool is_flat_mesh_name(const std::string& name) {
 }
 
 [[noreturn]] void cannot_write(const std::string& path, const std::string& reason) {
-  throw Error(ErrorKind::CannotWrite, path + ": " + reason);
+  throw CannotWriteError(path + ": " + reason);
 }
 
 // Walks up from `path` to the first part that exists: it must be a writable folder.
@@ -142,10 +142,9 @@ void PathPlan::check_same_files() const {
       // The message is about the path written (the later one when both are).
       const Entry& written = entry.use == Use::Read ? *earlier : entry;
       const Entry& other = entry.use == Use::Read ? entry : *earlier;
-      throw Error(ErrorKind::Usage,
-                  written.path + ": " + written.what + " would be the same file as " + other.what +
-                      (other.path == written.path ? "" : " " + other.path) +
-                      (other.use == Use::Read ? "; an input is never overwritten" : ""));
+      throw UsageError(written.path + ": " + written.what + " would be the same file as " +
+                       other.what + (other.path == written.path ? "" : " " + other.path) +
+                       (other.use == Use::Read ? "; an input is never overwritten" : ""));
     }
     by_path.emplace(entry.resolved, &entry);
     if (entry.id) by_id.emplace(*entry.id, &entry);
@@ -169,10 +168,10 @@ void PathPlan::check_flat_meshes() const {
     for (const auto& [folder, name] : places) {
       const auto flat = flat_folders.find(folder);
       if (flat == flat_folders.end() || !is_flat_mesh_name(name)) continue;
-      throw Error(ErrorKind::Usage,
-                  entry.path + ": " + entry.what + " would be the same file as a flat mesh of " +
-                      flat->second->what + " " + flat->second->path +
-                      (entry.use == Use::Read ? "; an input is never overwritten" : ""));
+      throw UsageError(entry.path + ": " + entry.what +
+                       " would be the same file as a flat mesh of " + flat->second->what + " " +
+                       flat->second->path +
+                       (entry.use == Use::Read ? "; an input is never overwritten" : ""));
     }
   }
 }

@@ -22,10 +22,10 @@ class PathPlan {
   // are written (loopID_flat_strip.obj, loopID_flat_patch.obj).
   void writes_flat_folder(const std::string& path, const std::string& what);
 
-  // Throws Error(Usage), "PATH: ...", when a path written is the same file or
+  // Throws UsageError, "PATH: ...", when a path written is the same file or
   // folder as an input or as another path written (through a symbolic or a
   // hard link, or a `..`, whether it exists yet or not), or a flat mesh of a
-  // flat folder would be; then Error(CannotWrite) when a file written is not
+  // flat folder would be; then CannotWriteError when a file written is not
   // a regular file or its folder is missing or not writable, or a folder
   // cannot be created.
   void check() const;

@@ -98,11 +98,11 @@ double number_field(const nlohmann::json& body, const char* key, double fallback
   if (!body.contains(key) || body[key].is_null()) return fallback;
   const nlohmann::json& value = body[key];
   if (!value.is_number() || !std::isfinite(value.get<double>()))
-    throw Error(ErrorKind::Usage, fmt::format("{}: {} is not a finite number", key, value.dump()));
+    throw UsageError(fmt::format("{}: {} is not a finite number", key, value.dump()));
   const double number = value.get<double>();
   if (above ? number <= low : number < low)
-    throw Error(ErrorKind::Usage,
-                fmt::format("{}: {} is not {} {}", key, number, above ? "above" : "at least", low));
+    throw UsageError(
+        fmt::format("{}: {} is not {} {}", key, number, above ? "above" : "at least", low));
   return number;
 }
 
@@ -117,14 +117,13 @@ std::string string_field(const nlohmann::json& body, const char* key, const std:
   std::string list;
   for (const char* choice : choices)
     list += (list.empty() ? "'" : ", '") + std::string(choice) + "'";
-  throw Error(ErrorKind::Usage,
-              fmt::format("{}: {} is not one of {}", key, body[key].dump(), list));
+  throw UsageError(fmt::format("{}: {} is not one of {}", key, body[key].dump(), list));
 }
 
 // The fill's request as the CLI's options give it (app/fill.cpp), from the
-// JSON of POST /api/fill. Throws Error(Usage) for a field that is not one.
+// JSON of POST /api/fill. Throws UsageError for a field that is not one.
 FillRequest fill_request(const nlohmann::json& body, const std::string& source) {
-  if (!body.is_object()) throw Error(ErrorKind::Usage, "the request is not a JSON object");
+  if (!body.is_object()) throw UsageError("the request is not a JSON object");
   FillRequest request;
   request.source = source;
   FillOptions& options = request.options;
@@ -142,15 +141,14 @@ FillRequest fill_request(const nlohmann::json& body, const std::string& source) 
   if (body.contains("holes") && !body["holes"].is_null() && body["holes"] != "default") {
     const nlohmann::json& holes = body["holes"];
     if (!holes.is_array())
-      throw Error(ErrorKind::Usage,
-                  "holes: " + holes.dump() + " is not \"default\" or a list of ids");
+      throw UsageError("holes: " + holes.dump() + " is not \"default\" or a list of ids");
     request.selection.mode = HoleSelection::Mode::Ids;
     for (const nlohmann::json& id : holes) {
       if (!id.is_number_integer() || id.get<int>() < 0)
-        throw Error(ErrorKind::Usage, "holes: " + id.dump() + " is not a loop id");
+        throw UsageError("holes: " + id.dump() + " is not a loop id");
       request.selection.ids.push_back(id.get<int>());
     }
-    if (request.selection.ids.empty()) throw Error(ErrorKind::Usage, "holes: no loop chosen");
+    if (request.selection.ids.empty()) throw UsageError("holes: no loop chosen");
   }
   return request;
 }
@@ -193,7 +191,7 @@ struct Server::State {
     reply["warnings"] = warnings;
     reply["defaults"] = defaults_json();
     std::lock_guard<std::mutex> lock(mutex);
-    if (running) throw Error(ErrorKind::Usage, "a fill is running: cancel it first");
+    if (running) throw UsageError("a fill is running: cancel it first");
     name = file_name;
     mesh = std::move(parsed);
     mesh_reply = std::move(reply);
@@ -203,11 +201,11 @@ struct Server::State {
     error.clear();
   }
 
-  // Starts the fill; returns its job id. Throws Error(Usage) as fill_request.
+  // Starts the fill; returns its job id. Throws UsageError as fill_request.
   int start(const nlohmann::json& body) {
     std::lock_guard<std::mutex> lock(mutex);
-    if (!mesh) throw Error(ErrorKind::Usage, "no mesh: upload one first");
-    if (running) throw Error(ErrorKind::Usage, "a fill is running: cancel it first");
+    if (!mesh) throw UsageError("no mesh: upload one first");
+    if (running) throw UsageError("a fill is running: cancel it first");
     request = fill_request(body, name);
     request.options.progress = [this](int id, const SolverProgress& progress) {
       std::lock_guard<std::mutex> progress_lock(mutex);
@@ -397,19 +395,18 @@ CLI::App* add_serve_command(CLI::App& app, ServeArgs& args) {
 
 int run_serve(const ServeArgs& args) {
   if (!serve_available()) {
-    throw Error(ErrorKind::Usage,
-                "serve is not available: this foldfill was built without cpp-httplib "
-                "(libcpp-httplib-dev) or three.js (bash scripts/setup.sh, then build again)");
+    throw UsageError(
+        "serve is not available: this foldfill was built without cpp-httplib "
+        "(libcpp-httplib-dev) or three.js (bash scripts/setup.sh, then build again)");
   }
   Server server;
   // Named by the path as given, so that its errors read as the CLI's.
   if (!args.mesh.empty()) server.open(read_file(args.mesh), args.mesh);
   const int port = server.bind(args.port);
-  if (port < 0)
-    throw Error(ErrorKind::Usage, fmt::format("cannot listen on 127.0.0.1:{}", args.port));
+  if (port < 0) throw UsageError(fmt::format("cannot listen on 127.0.0.1:{}", args.port));
   fmt::print("foldfill serve: http://127.0.0.1:{}/ (Ctrl-C stops it)\n", port);
   std::fflush(stdout);
-  if (!server.listen()) throw Error(ErrorKind::Internal, "the server stopped on an error");
+  if (!server.listen()) throw InternalError("the server stopped on an error");
   return 0;
 }
 

@@ -34,7 +34,7 @@ CLI::App* add_view_command(CLI::App& app, ViewArgs& args) {
 }
 
 int run_view(const ViewArgs& args) {
-  if (!view_available()) throw Error(ErrorKind::Usage, kViewUnavailable);
+  if (!view_available()) throw UsageError(kViewUnavailable);
   PathPlan plan;
   for (const std::string& path : args.meshes) plan.reads(path, "the input mesh");
   plan.reads(args.report, "the report");
@@ -50,8 +50,7 @@ int run_view(const ViewArgs& args) {
     options.report = nlohmann::json::parse(text, nullptr, false);
     if (options.report.is_discarded() || !options.report.is_object() ||
         !options.report.contains("holes") || !options.report["holes"].is_array()) {
-      throw Error(ErrorKind::BadFormat,
-                  args.report + ": not a fill's report (JSON with a \"holes\" list)");
+      throw BadFormatError(args.report + ": not a fill's report (JSON with a \"holes\" list)");
     }
   }
   std::vector<Mesh> meshes;

@@ -59,7 +59,7 @@ BoundaryLoop pick_hole(const std::vector<BoundaryLoop>& loops, const Case& c) {
                             : std::find(outer.begin(), outer.end(), loop.id) == outer.end();
     if (chosen) return loop;
   }
-  throw Error(ErrorKind::Usage, c.name + ": no hole loop found");
+  throw UsageError(c.name + ": no hole loop found");
 }
 
 void print_row(const Case& c) {

@@ -35,7 +35,7 @@ std::map<ErrorKind, PyObject*>& error_classes() {
 }
 PyObject* cancelled_class = nullptr;
 
-[[noreturn]] void usage(const std::string& message) { throw Error(ErrorKind::Usage, message); }
+[[noreturn]] void usage(const std::string& message) { throw UsageError(message); }
 
 std::string shape_of(const py::array& array) {
   std::string text = "(";
@@ -44,7 +44,7 @@ std::string shape_of(const py::array& array) {
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
-// `array` as an (n, 3) array of `T`; Error(Usage) naming `what` otherwise.
+// `array` as an (n, 3) array of `T`; UsageError naming `what` otherwise.
 template <class Array>
 Array as_rows_of_three(const py::object& object, const std::string& what) {
   const py::array any = py::array::ensure(object);
@@ -84,9 +84,9 @@ Mesh mesh_of(const py::object& vertices, const py::object& faces, const std::str
       // Beyond int, an index is out of range of any mesh; say so as
       // validate_mesh does for the others.
       if (index < 0 || index >= static_cast<int64_t>(mesh.positions.size())) {
-        throw Error(ErrorKind::BadFace, source + ": face " + std::to_string(i) + ": face vertex " +
-                                            std::to_string(index) + " out of range (mesh has " +
-                                            std::to_string(mesh.positions.size()) + " vertices)");
+        throw BadFaceError(source + ": face " + std::to_string(i) + ": face vertex " +
+                           std::to_string(index) + " out of range (mesh has " +
+                           std::to_string(mesh.positions.size()) + " vertices)");
       }
       mesh.faces[i][c] = static_cast<int>(index);
     }
@@ -332,13 +332,19 @@ PYBIND11_MODULE(_foldfill, m) {
   using namespace foldfill::python;
   m.doc() = "foldfill's bindings; use the package `foldfill`, which documents them.";
 
-  // The exception classes: foldfill.Error, and one subclass per kind of
-  // error. Those about bad arguments or data are ValueErrors too, those about
-  // files OSErrors.
+  // The exception classes mirror the C++ ones (foldfill/error.h): foldfill.Error,
+  // InputError for the kinds about a mesh's content, and one subclass per kind.
+  // Those about bad arguments or data are ValueErrors too, those about files
+  // OSErrors.
   const py::handle value_error(PyExc_ValueError), os_error(PyExc_OSError);
   PyObject* base = make_class(m, "Error", "A foldfill error; `kind` names its category.",
                               py::make_tuple(py::handle(PyExc_Exception)), "error");
   const py::handle b(base);
+  const py::handle input(make_class(
+      m, "InputError",
+      "A mesh foldfill cannot work on: FormatError, NonFiniteCoordinateError, BadFaceError, "
+      "NonManifoldError or NotADiskError.",
+      py::make_tuple(b, value_error), "input"));
   auto& classes = error_classes();
   classes[ErrorKind::Usage] =
       make_class(m, "UsageError",
@@ -350,19 +356,19 @@ PYBIND11_MODULE(_foldfill, m) {
                  to_string(ErrorKind::CannotRead));
   classes[ErrorKind::BadFormat] =
       make_class(m, "FormatError", "A file whose content is not a mesh of its format.",
-                 py::make_tuple(b, value_error), to_string(ErrorKind::BadFormat));
+                 py::make_tuple(input), to_string(ErrorKind::BadFormat));
   classes[ErrorKind::NonFiniteCoordinate] =
       make_class(m, "NonFiniteCoordinateError", "A vertex with a NaN or infinite coordinate.",
-                 py::make_tuple(b, value_error), to_string(ErrorKind::NonFiniteCoordinate));
+                 py::make_tuple(input), to_string(ErrorKind::NonFiniteCoordinate));
   classes[ErrorKind::BadFace] = make_class(
       m, "BadFaceError", "A face with a vertex index out of range, or a repeated vertex.",
-      py::make_tuple(b, value_error), to_string(ErrorKind::BadFace));
+      py::make_tuple(input), to_string(ErrorKind::BadFace));
   classes[ErrorKind::NonManifold] =
       make_class(m, "NonManifoldError", "An edge with more than two faces, or a pinched vertex.",
-                 py::make_tuple(b, value_error), to_string(ErrorKind::NonManifold));
+                 py::make_tuple(input), to_string(ErrorKind::NonManifold));
   classes[ErrorKind::NotADisk] =
       make_class(m, "NotADiskError", "A loop named to be filled that is not a disk's boundary.",
-                 py::make_tuple(b, value_error), to_string(ErrorKind::NotADisk));
+                 py::make_tuple(input), to_string(ErrorKind::NotADisk));
   classes[ErrorKind::FillFailed] =
       make_class(m, "FillError", "A stage of the fill could not produce a valid patch.",
                  py::make_tuple(b), to_string(ErrorKind::FillFailed));
@@ -379,6 +385,7 @@ PYBIND11_MODULE(_foldfill, m) {
     try {
       if (error) std::rethrow_exception(error);
     } catch (const Error& e) {
+      // Every C++ subclass has one kind, and each kind its Python class.
       PyErr_SetString(error_classes().at(e.kind()), e.what());
     }
   });

@@ -859,7 +859,7 @@ TEST(IoWrite, AFailingProducerLeavesNoFile) {
   EXPECT_THROW(write_file_atomically(path,
                                      [](const ByteConsumer& write) {
                                        write(std::string(3 << 20, 'x'));
-                                       throw Error(ErrorKind::Internal, "stopped halfway");
+                                       throw InternalError("stopped halfway");
                                      }),
                Error);
   EXPECT_TRUE(fs::is_empty(dir));

@@ -22,12 +22,17 @@ struct ArapOptions {
   double tolerance = 3e-4;
 };
 
-// Returns positions (normalised, as in the domain) of all domain vertices;
-// fixed vertices keep their positions. Starts from the flat patch mapped by
-// the best-fitting similarity of the flat loop onto its 3D positions. The
-// cotan system is factored once; iterates until the tolerance or the cap, or
-// until `budget` is spent (looked at before each iteration; the positions
-// reached are returned).
+// The ARAP start of the embedding (paper section 3.3; METHOD.md 2a): returns
+// positions (normalised, as in the domain) of all domain vertices; fixed
+// vertices keep their positions. Starts from the flat patch mapped by the
+// best-fitting similarity of the flat loop onto its 3D positions. The cotan
+// system is factored once; iterates until the tolerance or the cap, or until
+// `budget` is spent (looked at before each iteration; the positions reached
+// are returned). Precondition: `domain` from make_embed_domain. Throws
+// UsageError for a shrink factor that is not positive or a negative
+// tolerance, NonFiniteCoordinateError for a fixed position that is not
+// finite, FillFailedError when the solve gives non-finite positions, and
+// InternalError for a domain whose parts do not match.
 std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options = {},
                              const Budget& budget = {});
 
@@ -35,7 +40,8 @@ std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& optio
 // Laplacian of the flat rest state vanishes (each at the weighted mean of its
 // neighbours), the fixed ones in place. It lies within the convex hull of the
 // strip and, spanning the loop like a soap film, rarely crosses anything:
-// the fill falls back to it when its start does (see fill_holes).
+// the fill falls back to it when its start does (see fill_holes). Not in the
+// paper. Precondition and throws: as arap_embed.
 std::vector<Vec3> membrane_embed(const EmbedDomain& domain);
 
 }  // namespace foldfill

@@ -15,6 +15,7 @@ namespace foldfill {
 // coordinate or with low above high anywhere is empty: it meets nothing.
 using Box = Box3;
 
+// Whether `box` is empty (above).
 inline bool is_empty(const Box& box) {
   for (int c = 0; c < 3; ++c) {
     if (!(std::isfinite(box.low[c]) && std::isfinite(box.high[c]) && box.low[c] <= box.high[c])) {
@@ -55,7 +56,8 @@ class BoxTree {
   explicit BoxTree(const std::vector<Box>& boxes) { build(boxes); }
 
   void build(const std::vector<Box>& boxes);
-  // New boxes for the same indices as the last build (same count).
+  // New boxes for the same indices as the last build (same count; throws
+  // InternalError otherwise).
   void refit(const std::vector<Box>& boxes);
 
   int box_count() const { return static_cast<int>(ids_.size()); }

@@ -11,7 +11,8 @@
 // n x 3 matrix or the data of a std::vector<Vec3>. Nothing here has an
 // absolute tolerance: thresholds are relative to the lengths of the inputs,
 // so that scaling a problem scales every distance and leaves every time of
-// impact as it is.
+// impact as it is. Not in the paper (see contact.h). The functions throw
+// nothing unless they say so.
 #pragma once
 
 #include <array>
@@ -141,7 +142,7 @@ double edge_edge_ccd(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3&
 // triangle's, times each corner's weight in the latter; at ties those of
 // one of the nearest pairs (the first corner for a plane), and zero where
 // the triangle meets the sphere's centre or the axis segment (where the
-// value has no direction). Throws Error(Usage) for a mesh obstacle.
+// value has no direction). Throws UsageError for a mesh obstacle.
 double triangle_obstacle_distance(const Obstacle& obstacle, const Vec3& a, const Vec3& b,
                                   const Vec3& c, std::array<Vec3, 3>* gradient = nullptr);
 
@@ -158,7 +159,7 @@ double triangle_obstacle_distance(const Obstacle& obstacle, const Vec3& a, const
 // 1-Lipschitz and every point of the triangle moves by a convex combination
 // of its corners' moves). Plane: the value is the least of three linear
 // functions of t, so the time is exact: where it falls to gap * d0. Throws
-// Error(Usage) for a mesh obstacle.
+// UsageError for a mesh obstacle.
 double triangle_obstacle_ccd(const Obstacle& obstacle, const Vec3& a, const Vec3& b, const Vec3& c,
                              const Vec3& da, const Vec3& db, const Vec3& dc,
                              const CcdOptions& options = {});
@@ -176,7 +177,7 @@ struct CollisionMesh {
 };
 
 // The collision mesh of `faces` over `vertex_count` vertices with the edges
-// of the faces. Throws Error(Internal) for a vertex index out of range or
+// of the faces. Throws InternalError for a vertex index out of range or
 // fixed_count outside [0, vertex_count].
 CollisionMesh make_collision_mesh(const std::vector<Tri>& faces, int vertex_count, int fixed_count);
 

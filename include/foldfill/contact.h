@@ -5,7 +5,9 @@
 // that no pair crosses during it (Incremental Potential Contact, Li et al.
 // 2020; the step bound by Additive CCD, Li et al. 2021). A minimisation that
 // starts with nothing crossing and keeps every step within the bound ends
-// with nothing crossing.
+// with nothing crossing. Not in the paper: it replaces the soft repulsion
+// and the projection onto obstacles of section 3.4 (METHOD.md 2c) as the
+// guarantee, the repulsion staying in the energy.
 #pragma once
 
 #include <Eigen/Core>
@@ -52,7 +54,11 @@ struct PatchScene {
 class PatchContact {
  public:
   // `obstacles`: spheres, cylinders and planes in the domain's normalised
-  // coordinates (mesh obstacles belong in the scene, as triangles).
+  // coordinates (mesh obstacles belong in the scene, as triangles). Throws
+  // UsageError unless thickness, stiffness and skin are positive,
+  // InternalError for a mesh obstacle or a scene face with a vertex out of
+  // range. evaluate, step_bound, min_distance and positions throw
+  // InternalError for an `x` of the wrong size.
   PatchContact(const EmbedDomain& domain, const PatchScene& scene, const ContactOptions& options,
                std::vector<Obstacle> obstacles = {});
 

@@ -23,6 +23,9 @@ struct Developability {
 };
 
 // Measures the surroundings of `loop` from the faces around its neighbours.
+// Not in the paper (which assumes developable cloth, section 3.1): it decides
+// when that assumption fails. Precondition: `loop` is one of
+// find_boundary_loops(mesh), `vertex_faces` the mesh's. Throws nothing.
 Developability measure_developability(const Mesh& mesh, const VertexFaces& vertex_faces,
                                       const BoundaryLoop& loop);
 

@@ -34,7 +34,11 @@ struct EmbedDomain {
 };
 
 // Glues `patch` (whose boundary vertices are the loop, in loop order) to the
-// flattened strip and normalises.
+// flattened strip and normalises: the input of the 3D embedding (paper
+// section 3.3). Preconditions: `flat` is flatten_strip(strip) (or the
+// repaired one) and `patch` triangulates hole_polygon(strip, flat). Throws
+// FillFailedError when the loop has zero length, InternalError when the
+// parts do not match.
 EmbedDomain make_embed_domain(const Strip& strip, const Flattening& flat, const FlatPatch& patch);
 
 }  // namespace foldfill

@@ -33,6 +33,9 @@ struct EnergyTerms {
   double total = 0;      // isometric + lambda * bending + kappa * repulsion
 };
 
+// The energy E = E_I + lambda E_B + kappa E_C of paper sections 3.3 (E_I,
+// E_B) and 3.4 (E_C); METHOD.md 2b and 2c.
+//
 // Precomputes everything that does not change during the minimisation (rest
 // lengths, the constant bending Hessian, repulsion radii). Variables are the
 // free vertices' positions, a vector of 3 * free_count (x, y, z interleaved).
@@ -42,9 +45,15 @@ struct EnergyTerms {
 // once (each hole has its own energy object).
 class FabricEnergy {
  public:
+  // Precondition: `domain` from make_embed_domain. Throws UsageError for a
+  // weight or radius that is negative or not finite, FillFailedError for a
+  // degenerate rest triangle, InternalError for a domain whose parts do not
+  // match.
   FabricEnergy(const EmbedDomain& domain, const EnergyOptions& options);
 
   // Energy at `x`; adds nothing to and fills `gradient` when non-null.
+  // Throws InternalError unless `x` has 3 * free_count entries (so do
+  // positions(), and variables() unless given one position per vertex).
   EnergyTerms evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient = nullptr) const;
 
   // The fast solver's preconditioner over the free vertices (per coordinate):

@@ -7,7 +7,7 @@
 
 namespace foldfill {
 
-// The bytes of `path`. Throws Error(CannotRead, "PATH: reason").
+// The bytes of `path`. Throws CannotReadError("PATH: reason").
 std::string read_file(const std::string& path);
 
 // Writes `bytes` to a temporary file beside `path`, then renames it into place:
@@ -15,7 +15,7 @@ std::string read_file(const std::string& path);
 // file (0666 less the umask). The temporary file has no name while it is
 // written (Linux's O_TMPFILE), so that even a killed process leaves nothing
 // behind; where the file system has no such files, it is `.foldfill-XXXXXX`
-// in the same folder. Throws Error(CannotWrite, "PATH: reason") and removes
+// in the same folder. Throws CannotWriteError("PATH: reason") and removes
 // the temporary file on failure.
 void write_file_atomically(const std::string& path, std::string_view bytes);
 

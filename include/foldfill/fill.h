@@ -49,9 +49,10 @@ struct ChosenHoles {
 // The boundary loops of `mesh` and the ones `request.selection` picks
 // (select_holes), its warnings in choice.warnings. With
 // HoleSelection::Mode::KeepOpen, which goes by length alone, a warning says
-// so where the default (by kind) would fill other loops. Throws
-// Error(NonManifold) as find_boundary_loops, Error(Usage) and
-// Error(NotADisk) as select_holes.
+// so where the default (by kind) would fill other loops. Precondition:
+// `mesh` is valid (as read_mesh or validate_mesh leave it). Throws
+// NonManifoldError as find_boundary_loops, UsageError and NotADiskError as
+// select_holes.
 ChosenHoles choose_holes(const Mesh& mesh, const FillRequest& request);
 
 // What fill() gives: the fill's result (the output mesh and the report) and
@@ -63,13 +64,13 @@ struct FillOutput : FillResult {
 };
 
 // Fills the loops `chosen.choice.fill` of `mesh` (from choose_holes(mesh,
-// request)) as `request` says. The result's mesh is `mesh` with the patches
+// request), a precondition) as `request` says. The result's mesh is `mesh` with the patches
 // appended and its new elements marked (Mesh::vertex_hole, face_hole); its
 // report has one entry per chosen loop, in order; `loops` and `choice` are
 // `chosen`. A hole that cannot be filled is left open with its reason in the
 // report (nothing is thrown for it); when options.progress returns false the
 // fill is cancelled and report.cancelled set (fill_holes). Throws
-// Error(Usage) for contradicting options (see fill_holes).
+// UsageError for contradicting options (see fill_holes).
 FillOutput fill(const Mesh& mesh, ChosenHoles chosen, const FillRequest& request);
 
 // choose_holes, then the fill above: the whole of `foldfill fill` on one

@@ -91,13 +91,14 @@ struct BoundaryLoop {
   double component_area = 0;
 };
 
-// Finds every boundary loop of `mesh`. Throws Error(NonManifold) naming
+// Finds every boundary loop of `mesh`. Throws NonManifoldError naming
 // `source` for non-manifold edges, inconsistent orientation, or a vertex whose
 // faces form more than one fan when one of the fans is closed. A vertex
 // where boundary fans meet is allowed: a boundary that passes it several times
 // is split there into simple loops, one per missing piece (`split_at`); loops
 // of pieces of surface that meet only there are flagged `is_disk = false`.
-// Each loop is classified with the default ClassifyOptions.
+// Each loop is classified with the default ClassifyOptions. Precondition:
+// `mesh` is valid (validate_mesh); BadFaceError otherwise.
 std::vector<BoundaryLoop> find_boundary_loops(const Mesh& mesh, const std::string& source = "mesh");
 
 // The thresholds of the classification (section at the top).
@@ -112,7 +113,8 @@ struct ClassifyOptions {
 };
 
 // Sets the kind, its reason and the curvature figures of each of `loops`, the
-// loops of `mesh` as find_boundary_loops gives them.
+// loops of `mesh` as find_boundary_loops gives them (a precondition). Not in
+// the paper, which is given its hole (section 3.1).
 void classify_loops(const Mesh& mesh, std::vector<BoundaryLoop>& loops,
                     const ClassifyOptions& options = {});
 
@@ -176,7 +178,7 @@ struct HoleChoice {
 
 // Applies `selection`. Non-disk loops are skipped with a warning by Default,
 // All and KeepOpen; naming one explicitly (ids or near) throws
-// Error(NotADisk). Unknown ids throw Error(Usage), and so does a point of
+// NotADiskError. Unknown ids throw UsageError, and so does a point of
 // `near` farther from every loop than that loop's bounding-box diagonal (the
 // message names the nearest loop).
 HoleChoice select_holes(const std::vector<BoundaryLoop>& loops, const HoleSelection& selection,

@@ -82,7 +82,7 @@ struct FillOptions {
   double stiff_start_lambda = 0.1;
   // The prototype's weights in the mesh's units, mapped per hole onto
   // energy.lambda, energy.repulsion and solver.step; those must then be left
-  // at their defaults (fill_holes throws Error(Usage) otherwise).
+  // at their defaults (fill_holes throws UsageError otherwise).
   std::optional<PrototypeWeights> prototype;
   FallbackOptions fallback;
   bool keep_flat = false;  // keep the flat strip and patch in the report
@@ -212,7 +212,8 @@ struct FillResult {
   FillReport report;
 };
 
-// Fills the loops `fill_ids` of `loops` (from find_boundary_loops(mesh)).
+// Fills the loops `fill_ids` of `loops`. Preconditions: `mesh` is valid
+// (validate_mesh) and `loops` is find_boundary_loops(mesh).
 //
 // Per hole (Gisbert et al. 2023, section 3): plan (the strip, its LSCM
 // flattening, the flat patch, the normalised domain), start (ARAP from the
@@ -250,7 +251,7 @@ struct FillResult {
 // the ones not started are left open with the reason "cancelled",
 // report.cancelled is set, and holes already finished stay filled. A
 // minimisation that diverges keeps its lowest-energy state, with
-// HoleReport::warning saying so. Throws Error(Usage) for an id not in `loops`
+// HoleReport::warning saying so. Throws UsageError for an id not in `loops`
 // and for options that contradict each other (prototype weights with lambda,
 // repulsion or the descent step set too).
 FillResult fill_holes(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
@@ -271,6 +272,7 @@ constexpr double kCrossingReach = 1;
 // vertices the solver leaves on its surface is not a crossing.
 constexpr double kObstacleTolerance = 1e-9;
 
+// Not in the paper (its section 3.4 counts on the repulsion; METHOD.md 3).
 // Measures the crossings and min_distance of each filled hole of `report` on
 // the output `mesh`, whose faces `patch_faces[k]` (ascending) are the new
 // faces of report.holes[k]; sets self_intersections to their total and, where

@@ -12,15 +12,18 @@ namespace foldfill {
 enum class MeshFormat { Obj, Ply, Off, Stl };
 
 // The format named by a path's extension (case-insensitive); throws
-// Error(Usage) for an unknown extension.
+// UsageError for an unknown extension.
 MeshFormat format_from_path(const std::string& path);
 
 // Parses a whole file held in memory. `source` names it in error messages.
 // Polygons are split into triangle fans; STL corners with equal positions
 // (+0 and -0 alike) are welded. Text may start with a UTF-8 byte order mark;
 // counts in headers must match the data. Validates the result (finite
-// coordinates, face indices in range, three distinct vertices per face) and
-// throws a typed Error otherwise; messages count vertices and faces from 0.
+// coordinates, face indices in range, three distinct vertices per face).
+// Throws BadFormatError for content that is not a mesh of `format` (empty,
+// garbage, truncated, counts that do not match), NonFiniteCoordinateError and
+// BadFaceError as validate_mesh, all "SOURCE: problem" (with the line where
+// there is one); messages count vertices and faces from 0.
 //
 // Besides the geometry it keeps what a writer can give back (see Mesh): OBJ
 // texture coordinates, normals and the `mtllib`, `o`, `g`, `usemtl`, `s`
@@ -36,14 +39,15 @@ MeshFormat format_from_path(const std::string& path);
 Mesh parse_mesh(std::string_view bytes, MeshFormat format, const std::string& source,
                 std::vector<std::string>* warnings = nullptr);
 
-// Reads `path` (format from its extension). Throws Error(CannotRead) if it
-// cannot be opened, otherwise as parse_mesh.
+// Reads `path` (format from its extension). Throws UsageError for an unknown
+// extension, CannotReadError if it cannot be opened or read (or is a
+// folder), otherwise as parse_mesh.
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 // Checks a mesh built in memory as parse_mesh checks what it read: finite
 // coordinates, face indices in range, three distinct vertices per face, the
 // per-element data of one entry per element. Throws
-// Error(NonFiniteCoordinate) or Error(BadFace) naming `source` and the vertex
+// NonFiniteCoordinateError or BadFaceError naming `source` and the vertex
 // or face (counted from 0).
 void validate_mesh(const Mesh& mesh, const std::string& source = "mesh");
 
@@ -61,10 +65,13 @@ struct WriteOptions {
 //    mesh has marks, an `int foldfill_hole` property on vertices and faces;
 //  - OFF and STL: positions and faces only.
 // The file is written to a temporary name beside `path` and renamed into
-// place, so a failure leaves no partial file. Throws Error(CannotWrite).
+// place, so a failure leaves no partial file. Precondition: `mesh` is valid
+// (validate_mesh). Throws UsageError for an unknown extension,
+// CannotWriteError when the file cannot be written.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
 
-// Same as write_mesh but to a string (used by tests and fuzzers).
+// Same as write_mesh but to a string (used by tests and fuzzers). Throws
+// nothing for a valid mesh (validate_mesh).
 std::string serialize_mesh(const Mesh& mesh, MeshFormat format, const WriteOptions& options = {});
 
 }  // namespace foldfill

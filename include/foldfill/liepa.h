@@ -15,7 +15,10 @@ namespace foldfill {
 // counts, the total time, whether the fairing succeeded (a hole whose
 // fairing fails keeps its refined triangulation), the loop's mean edge length
 // as length scale, and the crossings of the output (measure_crossings;
-// `obstacles` are measured against, not avoided).
+// `obstacles` are measured against, not avoided). Not the paper's method.
+// Preconditions: `loops` is find_boundary_loops(mesh), `fill_ids` are ids of
+// it. Throws NonManifoldError for a mesh CGAL cannot build a surface mesh
+// from.
 FillResult fill_holes_liepa(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                             const std::vector<int>& fill_ids, const std::string& source = "mesh",
                             const std::vector<Obstacle>& obstacles = {});

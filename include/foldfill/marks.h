@@ -24,7 +24,7 @@ namespace foldfill {
 //    `ny`, `nz`, renormalised when all three are there) are the mean over the
 //    vertices of its hole's loop (in `loops`, by loop id), rounded to the
 //    property's type; every other property is 0, on new vertices and faces.
-// Throws Error(Internal) when the counts of the report do not add up to the
+// Throws InternalError when the counts of the report do not add up to the
 // elements appended.
 void mark_new_elements(Mesh& mesh, const std::vector<BoundaryLoop>& loops, FillReport& report);
 

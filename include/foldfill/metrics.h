@@ -1,4 +1,6 @@
-// Quality figures of a filled patch.
+// Quality figures of a filled patch: among them the paper's (section 4.3:
+// the Gaussian curvature's mean and variance, the edge length error;
+// METHOD.md 3). The functions throw nothing unless they say so.
 #pragma once
 
 #include <array>
@@ -69,6 +71,7 @@ std::vector<std::vector<int>> faces_near_boxes(const std::vector<Vec3>& position
 bool passes_through_itself(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                            int counted_from = 0);
 
+// The summed area of `faces`.
 double total_area(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
 
 // RMS of (|e| / l - 1) over `edges` with rest lengths.
@@ -80,7 +83,7 @@ double rms_relative_edge_error(const std::vector<Vec3>& positions,
 // samples (the vertices of the faces and the face centroids) of each surface
 // to the other surface's triangles (exact point-to-triangle distances through
 // an AABB tree). Degenerate triangles are not distance targets. Throws
-// Error(Usage) when either surface has no non-degenerate triangle.
+// UsageError when either surface has no non-degenerate triangle.
 struct SurfaceDistance {
   double hausdorff = 0;  // largest sample distance, both directions
   double mean = 0;       // average of the two one-sided mean sample distances
@@ -92,7 +95,7 @@ SurfaceDistance surface_distance(const std::vector<Vec3>& positions_a,
 
 // Unsigned dihedral angle (radians; 0 where the surface is flat, pi where it
 // folds back onto itself) across each of `edges`, between the normals of the
-// two faces of `faces` that share it. Throws Error(Usage) for an edge that is
+// two faces of `faces` that share it. Throws UsageError for an edge that is
 // not shared by exactly two faces.
 std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
                                     const std::vector<Tri>& faces,
@@ -108,6 +111,8 @@ std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
 double mean_abs_mean_curvature(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                                const std::vector<int>& vertices);
 
+// The corner angles of a triangulation (the flat patch's, or the new faces'
+// in 3D).
 struct TriangleQuality {
   double min_angle_deg = 0;      // smallest corner angle of all faces
   double share_below_20deg = 0;  // share of faces with a corner angle under 20 degrees
@@ -115,8 +120,8 @@ struct TriangleQuality {
 TriangleQuality triangle_quality(const std::vector<Vec3>& positions, const std::vector<Tri>& faces);
 
 // The vertices at most `rings` edges away from `seeds` along the edges of
-// `faces`, seeds excluded, ascending. Throws Error(Usage) for a seed and
-// Error(BadFace) for a face index outside [0, vertex_count).
+// `faces`, seeds excluded, ascending. Throws UsageError for a seed and
+// BadFaceError for a face index outside [0, vertex_count).
 std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>& faces,
                                        const std::vector<int>& seeds, int rings);
 

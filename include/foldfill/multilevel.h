@@ -30,7 +30,10 @@ struct MultilevelOptions {
 // None when min_patch_vertices is 0 or the domain has fewer free vertices. Every level shares the
 // loop, the strip and the normalisation of the domain. The fill starts the
 // coarsest level from ARAP, minimises it, interpolates it onto the next finer
-// one (interpolate_patch), and so on up to the domain.
+// one (interpolate_patch), and so on up to the domain. Not in the paper.
+// Precondition: `domain` is make_embed_domain(strip, flat, the patch above).
+// Throws UsageError for a coarsening not above 1, and what
+// triangulate_hole and make_embed_domain throw.
 std::vector<EmbedDomain> coarser_levels(const Strip& strip, const Flattening& flat,
                                         const TriangulateOptions& triangulate,
                                         const EmbedDomain& domain,
@@ -41,7 +44,9 @@ std::vector<EmbedDomain> coarser_levels(const Strip& strip, const Flattening& fl
 // each free fine vertex gets the barycentric combination of the coarse patch
 // triangle that contains its rest position (where rounding leaves it outside
 // all, the one it is least outside of). Fixed vertices keep their positions. Both domains
-// must share the strip (the same fixed vertices, faces and normalisation).
+// must share the strip (the same fixed vertices, faces and normalisation);
+// InternalError otherwise, or when `coarse_positions` is not one per vertex
+// of `coarse`.
 std::vector<Vec3> interpolate_patch(const EmbedDomain& coarse,
                                     const std::vector<Vec3>& coarse_positions,
                                     const EmbedDomain& fine);

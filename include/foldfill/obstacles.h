@@ -1,5 +1,8 @@
 // Rigid obstacles the patch must stay outside of: spheres, cylinders, planes
-// and triangle meshes (a body, a table).
+// and triangle meshes (a body, a table). The paper's object/cloth collision
+// (section 3.4; METHOD.md 2c) has spheres and cylinders, found by their
+// signed distance and projected out (push_outside); planes and meshes are
+// foldfill's own.
 #pragma once
 
 #include <array>
@@ -30,7 +33,7 @@ namespace foldfill {
 // face when open).
 class ObstacleMesh {
  public:
-  // Throws Error(NonManifold, "SOURCE: problem") for a mesh CGAL cannot build
+  // Throws NonManifoldError("SOURCE: problem") for a mesh CGAL cannot build
   // a surface from (an edge with more than two faces, faces oriented
   // inconsistently); the mesh must have faces and finite positions, as
   // read_mesh makes sure.
@@ -70,7 +73,8 @@ struct Obstacle {
   std::shared_ptr<const ObstacleMesh> mesh;  // mesh: its triangles, in the same units
 };
 
-// A mesh obstacle of `mesh` (see ObstacleMesh; `source` names it in messages).
+// A mesh obstacle of `mesh` (see ObstacleMesh; `source` names it in messages,
+// and its errors are ObstacleMesh's).
 Obstacle mesh_obstacle(Mesh mesh, const std::string& source);
 // The mesh obstacle of the file `path`, read with read_mesh (and its errors).
 Obstacle read_mesh_obstacle(const std::string& path);
@@ -81,7 +85,7 @@ Obstacle read_mesh_obstacle(const std::string& path);
 // Rz(phi) (0,1,0)) or "axis": [x,y,z], {"type": "plane", "point", "normal"},
 // {"type": "mesh", "file": "body.obj"} (a path relative to the folder of
 // `source`, read by read_mesh_obstacle); or the prototype's text lines
-// `sphere x y z r` / `cylinder x y z r h a1 a2 a3`. Throws Error(Usage)
+// `sphere x y z r` / `cylinder x y z r h a1 a2 a3`. Throws UsageError
 // naming `source` for malformed input, and the errors of read_mesh for a
 // mesh file that cannot be read.
 std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string& source);
@@ -89,6 +93,9 @@ std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string
 // list alone (a mesh entry's file is relative to the folder of `source`).
 std::vector<Obstacle> obstacles_from_json(const nlohmann::json& document,
                                           const std::string& source);
+
+// parse_obstacles of the file `path` (naming it); CannotReadError when it
+// cannot be read.
 std::vector<Obstacle> read_obstacles(const std::string& path);
 
 // Signed distance from `p` to the obstacle's surface (negative inside).
@@ -115,6 +122,7 @@ bool push_outside(const Obstacle& obstacle, Vec3& p);
 
 // The obstacle in normalised coordinates (p - origin) / scale (a mesh
 // obstacle's mesh moved and scaled, and its search structures built anew).
+// Throws InternalError unless `scale` is positive.
 Obstacle normalized(const Obstacle& obstacle, const Vec3& origin, double scale);
 
 // Whether the triangle crosses into the obstacle. Sphere, cylinder, plane: it
@@ -189,7 +197,7 @@ struct TessellationBounds {
 // box, `edge_length` and `inset` scaled together scale the mesh) and
 // deterministic. All of the above holds up to rounding. `bounds`, when
 // given, receives the edge length and the gap.
-// Throws Error(Usage) for a mesh obstacle, an `edge_length` that is not
+// Throws UsageError for a mesh obstacle, an `edge_length` that is not
 // positive and finite, an `inset` that is negative or not finite, or a box
 // with non-finite corners or low above high.
 Mesh tessellate_obstacle(const Obstacle& obstacle, const Box3& box, double edge_length,

@@ -49,7 +49,7 @@ void draw_label(Image& image, const std::string& text);
 Image side_by_side(const std::vector<Image>& images);
 
 // Writes an indexed PNG when the image has at most 256 colours, RGB
-// otherwise. Throws Error(CannotWrite).
+// otherwise. Throws CannotWriteError.
 void write_png(const Image& image, const std::string& path);
 
 }  // namespace foldfill

@@ -13,7 +13,8 @@ namespace foldfill {
 // foldfill's version, the project version of CMakeLists.txt ("0.1.0").
 const char* version();
 
-// A hole's figures; those its method does not measure (the fabric method's
+// A hole's figures (the paper's quality measures among them, section 4;
+// METHOD.md 3); those its method does not measure (the fabric method's
 // for the others, all of them for a hole left open) are null.
 nlohmann::json to_json(const HoleReport& hole);
 nlohmann::json to_json(const FillReport& report);

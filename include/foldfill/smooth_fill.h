@@ -31,9 +31,12 @@ struct SmoothPatch {
 
 // Fills `loop` of `mesh` from the faces within `rings` rings of the loop
 // (fairing of continuity k needs the k-ring; `rings` below the fairing's
-// need is raised to it). Throws Error(FillFailed) when CGAL finds no
-// triangulation, and Error(NotADisk) when the neighbourhood is not a
-// manifold surface with the loop as a border.
+// need is raised to it). Throws FillFailedError when CGAL finds no
+// triangulation, and NotADiskError when the neighbourhood is not a
+// manifold surface with the loop as a border. Not in the paper: a step of
+// the fallback chain (FillMethod::Smooth, Liepa, Triangulation).
+// Precondition: `loop` is one of find_boundary_loops(mesh) and
+// `vertex_faces` the mesh's (build_vertex_faces).
 SmoothPatch fill_hole_smooth(const Mesh& mesh, const VertexFaces& vertex_faces,
                              const BoundaryLoop& loop, SmoothFairing fairing,
                              const std::string& source = "mesh", int rings = 3);

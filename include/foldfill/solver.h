@@ -1,4 +1,5 @@
-// Minimisation of a patch's energy: the paper's gradient descent and a fast
+// Minimisation of a patch's energy (paper section 3.3, "gradient descent with
+// a fixed step size"; METHOD.md 2d): the paper's gradient descent and a fast
 // preconditioned L-BFGS, both keeping every step within the bound the
 // objective sets (the contact's, so that nothing crosses during a step).
 #pragma once
@@ -102,8 +103,10 @@ struct SolverResult {
 // each iteration and before each trial point of the line search, so the work
 // past them is at most one evaluation, or the preconditioner's factorisation
 // when they pass during it. A start where the objective is not finite is
-// returned as Diverged after 0 iterations. Throws Error(Usage) for a bad
-// gradient descent step, Error(Internal) for a start of the wrong size.
+// returned as Diverged after 0 iterations. Throws UsageError for a gradient
+// descent step or a maximum displacement that is not positive,
+// InternalError for a start of the wrong size (not objective.size()), and
+// what the objective throws.
 SolverResult minimize(const Objective& objective, const Eigen::VectorXd& start,
                       const SolverOptions& options = {}, const Budget& budget = {});
 

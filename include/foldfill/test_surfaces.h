@@ -10,7 +10,8 @@
 // faces), then cleaned so that its boundary is one simple loop: faces with two
 // removed neighbours of the same hole are removed too, and so are the smaller
 // fans at a vertex the hole would touch twice. The generators are
-// deterministic: the same options give the same mesh, bit for bit.
+// deterministic: the same options give the same mesh, bit for bit, and throw
+// nothing.
 #pragma once
 
 #include <cstdint>

@@ -37,7 +37,7 @@ struct VertexFaces {
   int vertex_count() const { return static_cast<int>(start.size()) - 1; }
 };
 
-// Throws Error(BadFace) naming `source` for a face index out of range or a face
+// Throws BadFaceError naming `source` for a face index out of range or a face
 // that repeats a vertex.
 VertexFaces build_vertex_faces(const std::vector<Tri>& faces, int vertex_count,
                                const std::string& source = "mesh");
@@ -50,7 +50,7 @@ void edges_from_vertex(const std::vector<Tri>& faces, const VertexFaces& vertex_
                        std::vector<Edge>& edges, const std::string& source = "mesh");
 
 // Builds the edges of `faces` over `vertex_count` vertices in O(F log F).
-// Throws Error(NonManifold) naming `source` when an edge has more than two
+// Throws NonManifoldError naming `source` when an edge has more than two
 // faces or two faces use it in the same direction (inconsistent orientation).
 EdgeTopology build_edge_topology(const std::vector<Tri>& faces, int vertex_count,
                                  const std::string& source = "mesh");

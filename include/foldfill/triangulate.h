@@ -27,8 +27,12 @@ struct FlatPatch {
   double share_below_20deg = 0;  // share of triangles with an angle under 20 degrees
 };
 
-// Triangulates the counter-clockwise simple polygon `polygon`. Throws
-// Error(FillFailed) when the polygon is not simple or not counter-clockwise.
+// Triangulates the counter-clockwise simple polygon `polygon`, the flat hole
+// of the strip's flattening (paper section 3.2, CGAL's refinement; METHOD.md
+// 1). Throws UsageError for a density that is not positive, FillFailedError
+// when the polygon has fewer than 3 vertices or a non-finite coordinate, is
+// not simple or not counter-clockwise, or would give too many triangles, and
+// InternalError when the triangulation loses a polygon edge.
 FlatPatch triangulate_hole(const std::vector<Vec2>& polygon,
                            const TriangulateOptions& options = {});
 

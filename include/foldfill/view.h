@@ -68,8 +68,9 @@ inline constexpr const char* kViewUnavailable =
 // curvatures can colour the surface instead. A fill that keeps the input's
 // vertices and faces as its first ones shares their buffers with the input
 // (so the page is not much larger than the fill alone). `warnings` gets what
-// the page leaves out (loops of a mesh that is not manifold). Throws
-// Error(Usage) when !view_available().
+// the page leaves out (loops of a mesh that is not manifold). Precondition:
+// the meshes are valid (validate_mesh). Throws UsageError when
+// !view_available().
 std::string view_page(const ViewMesh& input, const std::vector<ViewMesh>& filled,
                       const ViewOptions& options, std::vector<std::string>* warnings = nullptr);
 

@@ -10,8 +10,9 @@ counter-clockwise seen from its front side).
     foldfill.write("filled.ply", result.vertices, result.faces, new_faces=result.new_faces)
 
 Errors raise subclasses of :class:`foldfill.Error` with the command line's
-messages (``UsageError`` and the errors about a mesh's content are also
-``ValueError``; ``ReadError`` and ``WriteError`` are also ``OSError``).
+messages (``UsageError`` and the errors about a mesh's content, subclasses of
+``InputError``, are also ``ValueError``; ``ReadError`` and ``WriteError`` are
+also ``OSError``).
 """
 
 import json as _json
@@ -28,6 +29,7 @@ from ._foldfill import (
     Error,
     FillError,
     FormatError,
+    InputError,
     InternalError,
     NonFiniteCoordinateError,
     NonManifoldError,
@@ -39,7 +41,7 @@ from ._foldfill import (
 
 __all__ = [
     "read", "write", "holes", "fill", "FillResult",
-    "Error", "UsageError", "ReadError", "FormatError", "NonFiniteCoordinateError",
+    "Error", "UsageError", "ReadError", "InputError", "FormatError", "NonFiniteCoordinateError",
     "BadFaceError", "NonManifoldError", "NotADiskError", "FillError", "WriteError",
     "InternalError", "CancelledError",
 ]

@@ -113,7 +113,7 @@ void BoxTree::refit_nodes() {
 
 void BoxTree::refit(const std::vector<Box>& boxes) {
   if (boxes.size() != ids_.size()) {
-    throw Error(ErrorKind::Internal, "box tree: refit with a different number of boxes");
+    throw InternalError("box tree: refit with a different number of boxes");
   }
   for (size_t k = 0; k < ids_.size(); ++k) boxes_[k] = canonical(boxes[ids_[k]]);
   refit_nodes();

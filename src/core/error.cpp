@@ -28,4 +28,30 @@ const char* to_string(ErrorKind kind) {
   return "internal";
 }
 
+void throw_error(ErrorKind kind, const std::string& message) {
+  switch (kind) {
+    case ErrorKind::Usage:
+      throw UsageError(message);
+    case ErrorKind::CannotRead:
+      throw CannotReadError(message);
+    case ErrorKind::BadFormat:
+      throw BadFormatError(message);
+    case ErrorKind::NonFiniteCoordinate:
+      throw NonFiniteCoordinateError(message);
+    case ErrorKind::BadFace:
+      throw BadFaceError(message);
+    case ErrorKind::NonManifold:
+      throw NonManifoldError(message);
+    case ErrorKind::NotADisk:
+      throw NotADiskError(message);
+    case ErrorKind::FillFailed:
+      throw FillFailedError(message);
+    case ErrorKind::CannotWrite:
+      throw CannotWriteError(message);
+    case ErrorKind::Internal:
+      throw InternalError(message);
+  }
+  throw InternalError(message);
+}
+
 }  // namespace foldfill

@@ -82,7 +82,7 @@ class Descriptor {
 };
 
 [[noreturn]] void fail(const std::string& path, int error) {
-  throw Error(ErrorKind::CannotWrite, path + ": cannot write (" + std::strerror(error) + ")");
+  throw CannotWriteError(path + ": cannot write (" + std::strerror(error) + ")");
 }
 
 // `.foldfill-` and six characters, different at each call.
@@ -210,11 +210,10 @@ class TemporaryFile {
 std::string read_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    throw Error(ErrorKind::CannotRead, path + ": is a directory, not a mesh file");
+    throw CannotReadError(path + ": is a directory, not a mesh file");
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw Error(ErrorKind::CannotRead, path + ": cannot open (" + std::strerror(errno) + ")");
+  if (!in) throw CannotReadError(path + ": cannot open (" + std::strerror(errno) + ")");
   std::string bytes;
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
@@ -223,7 +222,7 @@ std::string read_file(const std::string& path) {
     in.seekg(0);
     in.read(bytes.data(), size);
   }
-  if (!in) throw Error(ErrorKind::CannotRead, path + ": read failed");
+  if (!in) throw CannotReadError(path + ": read failed");
   return bytes;
 }
 

@@ -18,14 +18,13 @@ void check_face_indices(const std::vector<Tri>& faces, int vertex_count,
     const Tri& face = faces[f];
     for (int k = 0; k < 3; ++k) {
       if (face[k] < 0 || face[k] >= vertex_count) {
-        throw Error(ErrorKind::BadFace, source + ": face " + std::to_string(f) +
-                                            " has vertex index " + std::to_string(face[k]) +
-                                            " out of range (the mesh has " +
-                                            std::to_string(vertex_count) + " vertices)");
+        throw BadFaceError(source + ": face " + std::to_string(f) + " has vertex index " +
+                           std::to_string(face[k]) + " out of range (the mesh has " +
+                           std::to_string(vertex_count) + " vertices)");
       }
       if (face[k] == face[(k + 1) % 3]) {
-        throw Error(ErrorKind::BadFace, source + ": face " + std::to_string(f) +
-                                            " repeats vertex " + std::to_string(face[k]));
+        throw BadFaceError(source + ": face " + std::to_string(f) + " repeats vertex " +
+                           std::to_string(face[k]));
       }
     }
   }
@@ -53,17 +52,16 @@ Edge make_edge(const std::vector<Tri>& faces, int v0, const HalfEdgeAt* run, int
   edge.v0 = v0;
   edge.v1 = run[0].other;
   if (run_size > 2) {
-    throw Error(ErrorKind::NonManifold, source + ": " + edge_name(edge.v0, edge.v1) +
-                                            " is shared by " + std::to_string(run_size) + " faces");
+    throw NonManifoldError(source + ": " + edge_name(edge.v0, edge.v1) + " is shared by " +
+                           std::to_string(run_size) + " faces");
   }
   for (int i = 0; i < run_size; ++i) {
     const int face = run[i].half_edge / 3, corner = run[i].half_edge % 3;
     const int side = faces[face][corner] == v0 ? 0 : 1;
     if (edge.face[side] >= 0) {
-      throw Error(ErrorKind::NonManifold, source + ": faces " + std::to_string(edge.face[side]) +
-                                              " and " + std::to_string(face) + " use " +
-                                              edge_name(edge.v0, edge.v1) +
-                                              " in the same direction (inconsistent orientation)");
+      throw NonManifoldError(source + ": faces " + std::to_string(edge.face[side]) + " and " +
+                             std::to_string(face) + " use " + edge_name(edge.v0, edge.v1) +
+                             " in the same direction (inconsistent orientation)");
     }
     edge.face[side] = face;
     edge.opposite[side] = faces[face][(corner + 2) % 3];

@@ -66,13 +66,13 @@ void check_domain(const EmbedDomain& domain) {
   const int n = domain.vertex_count();
   if (domain.fixed_count < 0 || domain.fixed_count > n ||
       static_cast<int>(domain.fixed_positions.size()) != domain.fixed_count)
-    throw Error(ErrorKind::Internal, "arap: fixed vertex count does not match the domain");
+    throw InternalError("arap: fixed vertex count does not match the domain");
   for (const Tri& f : domain.faces)
     for (int v : f)
-      if (v < 0 || v >= n) throw Error(ErrorKind::Internal, "arap: face index out of range");
+      if (v < 0 || v >= n) throw InternalError("arap: face index out of range");
   for (const Vec3& p : domain.fixed_positions)
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-      throw Error(ErrorKind::NonFiniteCoordinate, "arap: a fixed position is not finite");
+      throw NonFiniteCoordinateError("arap: a fixed position is not finite");
 }
 
 double cotangent(const Vec2& apex, const Vec2& a, const Vec2& b) {
@@ -291,7 +291,7 @@ double solve_positions(const EmbedDomain& domain, const Neighbourhoods& hood,
     const double squared_move = (next.row(i - fixed) - x.row(i)).squaredNorm();
     // Finite positions give a finite move (the comparison fails on NaN).
     if (!(squared_move < std::numeric_limits<double>::infinity()))
-      throw Error(ErrorKind::FillFailed, "arap: the solve gave non-finite positions");
+      throw FillFailedError("arap: the solve gave non-finite positions");
     largest_squared_move = std::max(largest_squared_move, squared_move);
     x.row(i) = next.row(i - fixed);
   }
@@ -317,10 +317,8 @@ std::vector<Vec3> membrane_embed(const EmbedDomain& domain) {
 std::vector<Vec3> arap_embed(const EmbedDomain& domain, const ArapOptions& options,
                              const Budget& budget) {
   check_domain(domain);
-  if (!(options.shrink > 0))
-    throw Error(ErrorKind::Usage, "arap: the shrink factor must be positive");
-  if (!(options.tolerance >= 0))
-    throw Error(ErrorKind::Usage, "arap: the tolerance must not be negative");
+  if (!(options.shrink > 0)) throw UsageError("arap: the shrink factor must be positive");
+  if (!(options.tolerance >= 0)) throw UsageError("arap: the tolerance must not be negative");
   Points x = initial_guess(domain);
 
   if (domain.free_count() > 0 && options.iterations > 0 && !budget.spent()) {

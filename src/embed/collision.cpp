@@ -78,7 +78,7 @@ bool share_vertex(const std::array<int, 2>& e, const std::array<int, 2>& g) {
 CollisionMesh make_collision_mesh(const std::vector<Tri>& faces, int vertex_count,
                                   int fixed_count) {
   if (fixed_count < 0 || fixed_count > vertex_count) {
-    throw Error(ErrorKind::Internal, "collision mesh: fixed_count outside [0, vertex_count]");
+    throw InternalError("collision mesh: fixed_count outside [0, vertex_count]");
   }
   CollisionMesh mesh;
   mesh.faces = faces;
@@ -89,8 +89,7 @@ CollisionMesh make_collision_mesh(const std::vector<Tri>& faces, int vertex_coun
     for (int k = 0; k < 3; ++k) {
       const int a = faces[f][k], b = faces[f][(k + 1) % 3];
       if (a < 0 || a >= vertex_count) {
-        throw Error(ErrorKind::Internal,
-                    "collision mesh: face " + std::to_string(f) + " out of range");
+        throw InternalError("collision mesh: face " + std::to_string(f) + " out of range");
       }
       if (a != b) mesh.edges.push_back({std::min(a, b), std::max(a, b)});
     }

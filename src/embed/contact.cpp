@@ -28,8 +28,8 @@ std::vector<Tri> collision_faces(const EmbedDomain& domain, const PatchScene& sc
   for (const Tri& f : scene.faces) {
     for (int v : f)
       if (v < 0 || v >= limit)
-        throw Error(ErrorKind::Internal, "contact: a scene face has vertex " + std::to_string(v) +
-                                             " of " + std::to_string(limit));
+        throw InternalError("contact: a scene face has vertex " + std::to_string(v) + " of " +
+                            std::to_string(limit));
     faces.push_back(f);
   }
   return faces;
@@ -48,7 +48,7 @@ std::vector<double> fixed_points(const EmbedDomain& domain, const PatchScene& sc
 void check_options(const ContactOptions& options) {
   const auto positive = [](double w) { return std::isfinite(w) && w > 0; };
   if (!positive(options.thickness) || !positive(options.stiffness) || !positive(options.skin))
-    throw Error(ErrorKind::Usage, "contact: thickness, stiffness and skin must be positive");
+    throw UsageError("contact: thickness, stiffness and skin must be positive");
 }
 
 }  // namespace
@@ -63,7 +63,7 @@ PatchContact::PatchContact(const EmbedDomain& domain, const PatchScene& scene,
   check_options(options);
   for (const Obstacle& o : obstacles_)
     if (o.type == Obstacle::Type::Mesh)
-      throw Error(ErrorKind::Internal, "contact: a mesh obstacle belongs in the scene");
+      throw InternalError("contact: a mesh obstacle belongs in the scene");
   const std::vector<Tri> faces = collision_faces(domain, scene);
   points_ = fixed_points(domain, scene);
   const int vertex_count = fixed_count_ + domain.free_count();
@@ -75,9 +75,8 @@ PatchContact::PatchContact(const EmbedDomain& domain, const PatchScene& scene,
 const double* PatchContact::place(const Eigen::VectorXd& x) const {
   const size_t offset = 3 * static_cast<size_t>(fixed_count_);
   if (static_cast<size_t>(x.size()) + offset != points_.size())
-    throw Error(ErrorKind::Internal,
-                "contact: " + std::to_string(x.size()) + " variables for a patch of " +
-                    std::to_string((points_.size() - offset) / 3) + " free vertices");
+    throw InternalError("contact: " + std::to_string(x.size()) + " variables for a patch of " +
+                        std::to_string((points_.size() - offset) / 3) + " free vertices");
   std::copy(x.data(), x.data() + x.size(), points_.begin() + static_cast<std::ptrdiff_t>(offset));
   return points_.data();
 }

@@ -139,7 +139,7 @@ CoordinateCholesky<Value>::CoordinateCholesky(const Eigen::SparseMatrix<double>&
   use_one_blas_thread();
   CholmodFactor cholmod(effort, matrix.rows());
   const cholmod_factor* l = cholmod.factor(matrix);
-  if (!l) throw Error(ErrorKind::FillFailed, failure);
+  if (!l) throw FillFailedError(failure);
   const size_t supernodes = l->nsuper;
   permutation_ = copy_ints(l->Perm, l->n);
   first_column_ = copy_ints(l->super, supernodes + 1);

@@ -32,7 +32,7 @@ class CoordinateCholesky {
  public:
   using Coordinates = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-  // Throws Error(FillFailed, failure) when `matrix` cannot be factored (it
+  // Throws FillFailedError(failure) when `matrix` cannot be factored (it
   // is not positive definite).
   CoordinateCholesky(const Eigen::SparseMatrix<double>& matrix, OrderingEffort effort,
                      const char* failure);

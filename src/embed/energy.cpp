@@ -44,19 +44,19 @@ void check_domain(const EmbedDomain& domain) {
   const int n = domain.vertex_count();
   if (domain.fixed_count < 0 || domain.fixed_count > n ||
       static_cast<int>(domain.fixed_positions.size()) != domain.fixed_count) {
-    throw Error(ErrorKind::Internal, "energy: fixed_positions does not match fixed_count");
+    throw InternalError("energy: fixed_positions does not match fixed_count");
   }
   for (size_t f = 0; f < domain.faces.size(); ++f) {
     const Tri& t = domain.faces[f];
     for (int v : t) {
       if (v < 0 || v >= n) {
-        throw Error(ErrorKind::Internal, "energy: face " + std::to_string(f) + " out of range");
+        throw InternalError("energy: face " + std::to_string(f) + " out of range");
       }
     }
     // Cotangents and areas below need proper counter-clockwise rest triangles.
     if (!(double_area(domain.rest_uv[t[0]], domain.rest_uv[t[1]], domain.rest_uv[t[2]]) > 0)) {
-      throw Error(ErrorKind::FillFailed,
-                  "energy: rest triangle " + std::to_string(f) + " is degenerate or clockwise");
+      throw FillFailedError("energy: rest triangle " + std::to_string(f) +
+                            " is degenerate or clockwise");
     }
   }
 }
@@ -64,8 +64,8 @@ void check_domain(const EmbedDomain& domain) {
 void check_options(const EnergyOptions& options) {
   const auto valid = [](double w) { return std::isfinite(w) && w >= 0; };
   if (!valid(options.lambda) || !valid(options.repulsion) || !valid(options.repulsion_radius)) {
-    throw Error(ErrorKind::Usage,
-                "energy options: lambda, repulsion and repulsion_radius must be finite and >= 0");
+    throw UsageError(
+        "energy options: lambda, repulsion and repulsion_radius must be finite and >= 0");
   }
 }
 
@@ -399,8 +399,8 @@ void FabricEnergy::split_bending_hessian() {
 EnergyTerms FabricEnergy::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
   const int free = domain_.free_count();
   if (x.size() != 3 * static_cast<Eigen::Index>(free)) {
-    throw Error(ErrorKind::Internal, "energy: expected " + std::to_string(3 * free) +
-                                         " variables, got " + std::to_string(x.size()));
+    throw InternalError("energy: expected " + std::to_string(3 * free) + " variables, got " +
+                        std::to_string(x.size()));
   }
   points_.bottomRows(free) = Eigen::Map<const Points>(x.data(), free, 3);
   Points* forces = gradient ? &forces_ : nullptr;
@@ -503,7 +503,7 @@ Eigen::SparseMatrix<double> FabricEnergy::preconditioner() const {
 std::vector<Vec3> FabricEnergy::positions(const Eigen::VectorXd& x) const {
   const int free = domain_.free_count();
   if (x.size() != 3 * static_cast<Eigen::Index>(free)) {
-    throw Error(ErrorKind::Internal, "energy: wrong number of variables");
+    throw InternalError("energy: wrong number of variables");
   }
   std::vector<Vec3> result(domain_.fixed_positions);
   result.reserve(domain_.vertex_count());
@@ -513,7 +513,7 @@ std::vector<Vec3> FabricEnergy::positions(const Eigen::VectorXd& x) const {
 
 Eigen::VectorXd FabricEnergy::variables(const std::vector<Vec3>& positions) const {
   if (static_cast<int>(positions.size()) != domain_.vertex_count()) {
-    throw Error(ErrorKind::Internal, "energy: wrong number of positions");
+    throw InternalError("energy: wrong number of positions");
   }
   const int fixed = domain_.fixed_count, free = domain_.free_count();
   Eigen::VectorXd x(3 * static_cast<Eigen::Index>(free));

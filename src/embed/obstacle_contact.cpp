@@ -36,8 +36,8 @@ bool pierces(const Vec3& s0, const Vec3& s1, const Vec3& a, const Vec3& b, const
 
 void require_analytic(const Obstacle& obstacle, const char* function) {
   if (obstacle.type == Obstacle::Type::Mesh)
-    throw Error(ErrorKind::Usage,
-                std::string(function) + ": a mesh obstacle is not a sphere, cylinder or plane");
+    throw UsageError(std::string(function) +
+                     ": a mesh obstacle is not a sphere, cylinder or plane");
 }
 
 // The ends of a cylinder's axis segment.

@@ -96,10 +96,9 @@ ObstacleMesh::Search::Search(const Mesh& mesh, const std::string& source) {
     const Tri& t = mesh.faces[f];
     if (surface.add_face(SurfaceMesh::Vertex_index(t[0]), SurfaceMesh::Vertex_index(t[1]),
                          SurfaceMesh::Vertex_index(t[2])) == SurfaceMesh::null_face()) {
-      throw Error(ErrorKind::NonManifold,
-                  source + ": obstacle mesh face " + std::to_string(f) +
-                      " makes an edge or a vertex non-manifold, or is oriented against its "
-                      "neighbours");
+      throw NonManifoldError(source + ": obstacle mesh face " + std::to_string(f) +
+                             " makes an edge or a vertex non-manifold, or is oriented against its "
+                             "neighbours");
     }
   }
   closed = CGAL::is_closed(surface);

@@ -559,17 +559,17 @@ Mesh tessellate_plane(const Obstacle& plane, const Box3& box, double edge_length
 Mesh tessellate_obstacle(const Obstacle& obstacle, const Box3& box, double edge_length,
                          double inset, TessellationBounds* bounds) {
   if (obstacle.type == Obstacle::Type::Mesh) {
-    throw Error(ErrorKind::Usage, "tessellate_obstacle: a mesh obstacle is triangles already");
+    throw UsageError("tessellate_obstacle: a mesh obstacle is triangles already");
   }
   if (!(std::isfinite(edge_length) && edge_length > 0)) {
-    throw Error(ErrorKind::Usage, "tessellate_obstacle: edge length must be positive");
+    throw UsageError("tessellate_obstacle: edge length must be positive");
   }
   if (!(std::isfinite(inset) && inset >= 0)) {
-    throw Error(ErrorKind::Usage, "tessellate_obstacle: inset must be finite and not negative");
+    throw UsageError("tessellate_obstacle: inset must be finite and not negative");
   }
   for (int c = 0; c < 3; ++c) {
     if (!(std::isfinite(box.low[c]) && std::isfinite(box.high[c]) && box.low[c] <= box.high[c])) {
-      throw Error(ErrorKind::Usage, "tessellate_obstacle: the box must be finite, low <= high");
+      throw UsageError("tessellate_obstacle: the box must be finite, low <= high");
     }
   }
   TessellationBounds result;

@@ -40,7 +40,7 @@ Vec3 axis_from_euler_zxz(double psi, double phi, double theta) {
 }
 
 [[noreturn]] void fail(const std::string& where, const std::string& problem) {
-  throw Error(ErrorKind::Usage, where + ": " + problem);
+  throw UsageError(where + ": " + problem);
 }
 
 // Checks the values of a parsed obstacle and makes its directions unit.
@@ -370,10 +370,10 @@ std::vector<Obstacle> parse_obstacles(const std::string& text, const std::string
 
 std::vector<Obstacle> read_obstacles(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorKind::CannotRead, path + ": cannot read obstacles file");
+  if (!in) throw CannotReadError(path + ": cannot read obstacles file");
   std::ostringstream text;
   text << in.rdbuf();
-  if (in.bad()) throw Error(ErrorKind::CannotRead, path + ": cannot read obstacles file");
+  if (in.bad()) throw CannotReadError(path + ": cannot read obstacles file");
   return parse_obstacles(text.str(), path);
 }
 
@@ -456,7 +456,7 @@ bool push_outside(const Obstacle& obstacle, Vec3& p) {
 
 Obstacle normalized(const Obstacle& obstacle, const Vec3& origin, double scale) {
   if (!(std::isfinite(scale) && scale > 0)) {
-    throw Error(ErrorKind::Internal, "obstacles: normalisation scale must be positive");
+    throw InternalError("obstacles: normalisation scale must be positive");
   }
   Obstacle result = obstacle;
   result.center = scaled(sub(obstacle.center, origin), 1 / scale);

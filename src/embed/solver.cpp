@@ -257,14 +257,13 @@ class Lbfgs final : public Stepper {
 
 void check_inputs(const Objective& objective, const VectorXd& start, const SolverOptions& options) {
   if (start.size() != objective.size() || objective.size() % 3 != 0)
-    throw Error(ErrorKind::Internal, "solver: start has " + std::to_string(start.size()) +
-                                         " variables for an objective of " +
-                                         std::to_string(objective.size()));
+    throw InternalError("solver: start has " + std::to_string(start.size()) +
+                        " variables for an objective of " + std::to_string(objective.size()));
   if (options.kind == SolverKind::GradientDescent &&
       !(options.step > 0 && std::isfinite(options.step)))
-    throw Error(ErrorKind::Usage, "solver: the gradient descent step must be positive");
+    throw UsageError("solver: the gradient descent step must be positive");
   if (!(options.max_displacement > 0))
-    throw Error(ErrorKind::Usage, "solver: the maximum displacement must be positive");
+    throw UsageError("solver: the maximum displacement must be positive");
 }
 
 // Runs `stepper` under the shared stopping rules and returns the lowest-energy

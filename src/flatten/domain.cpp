@@ -11,7 +11,7 @@ namespace {
 
 void check_parts_match(const Strip& strip, const Flattening& flat, const FlatPatch& patch) {
   const auto mismatch = [](const std::string& what) {
-    return Error(ErrorKind::Internal, "make_embed_domain: " + what);
+    return InternalError("make_embed_domain: " + what);
   };
   if (flat.uv.size() != strip.positions.size())
     throw mismatch("the flattening has " + std::to_string(flat.uv.size()) +
@@ -50,7 +50,7 @@ EmbedDomain make_embed_domain(const Strip& strip, const Flattening& flat, const 
   domain.origin = origin;
   domain.length_scale = loop_length / n;
   if (!(domain.length_scale > 0) || !std::isfinite(domain.length_scale))
-    throw Error(ErrorKind::FillFailed, "make_embed_domain: the hole loop has zero length");
+    throw FillFailedError("make_embed_domain: the hole loop has zero length");
   const double inverse_scale = 1 / domain.length_scale;
 
   domain.fixed_positions.reserve(strip.positions.size());

@@ -41,11 +41,11 @@ constexpr int kRepairSteps = 8;
 // ---- Strip extraction and its topology check -------------------------------
 
 // The refusal of a loop: "SOURCE: loop ID: reason".
-struct NotADiskError {
+struct LoopRefusal {
   const std::string& source;
   int loop_id;
-  Error operator()(const std::string& reason) const {
-    return Error(ErrorKind::NotADisk, source + ": loop " + std::to_string(loop_id) + ": " + reason);
+  NotADiskError operator()(const std::string& reason) const {
+    return NotADiskError(source + ": loop " + std::to_string(loop_id) + ": " + reason);
   }
 };
 
@@ -148,17 +148,16 @@ const Edge* find_edge(const EdgeTopology& topology, int a, int b) {
 
 // Throws `not_a_disk(reason)` unless the strip is a connected planar surface
 // whose inner boundary is the loop.
-void check_flat_ring(const Strip& strip, const std::string& source,
-                     const NotADiskError& not_a_disk) {
+void check_flat_ring(const Strip& strip, const std::string& source, const LoopRefusal& not_a_disk) {
   const int vertex_count = static_cast<int>(strip.positions.size());
   EdgeTopology topology;
   try {
     topology = build_edge_topology(strip.faces, vertex_count, source);
   } catch (const Error& error) {
     // Its message names strip-local indices; the mesh's are what the user has.
-    const Error refusal =
+    const NotADiskError refusal =
         not_a_disk("the faces around it are not a consistently oriented manifold");
-    throw Error(error.kind(), refusal.what());
+    throw_error(error.kind(), refusal.what());
   }
 
   for (int k = 0; k < strip.loop_size; ++k) {
@@ -275,8 +274,8 @@ std::vector<Vec2> solve_lscm(const Strip& strip, const std::vector<Vec2>& pins,
       solution = solver.solve(system.transpose() * rhs.head(row));
   }
   if ((free_count > 0 && solver.info() != Eigen::Success) || !solution.allFinite())
-    throw Error(ErrorKind::FillFailed, source + ": the flattening (LSCM) system of the strip " +
-                                           "is singular; its triangles may be degenerate");
+    throw FillFailedError(source + ": the flattening (LSCM) system of the strip " +
+                          "is singular; its triangles may be degenerate");
 
   std::vector<Vec2> uv(vertex_count);
   for (size_t k = 0; k < pins.size(); ++k) uv[k] = pins[k];
@@ -361,7 +360,7 @@ bool is_counter_clockwise(const std::vector<Vec2>& polygon) {
 
 // Throws unless `loop` is flagged a disk and has at least 3 distinct vertices
 // of `mesh`.
-void check_loop(const Mesh& mesh, const BoundaryLoop& loop, const NotADiskError& not_a_disk) {
+void check_loop(const Mesh& mesh, const BoundaryLoop& loop, const LoopRefusal& not_a_disk) {
   if (!loop.is_disk)
     throw not_a_disk(loop.reason.empty() ? "it is not the boundary of a disk" : loop.reason);
   if (loop.vertices.size() < 3)
@@ -382,7 +381,7 @@ void check_loop(const Mesh& mesh, const BoundaryLoop& loop, const NotADiskError&
 // Input vertices are looked up in the sorted list of the strip's vertices, so
 // the cost follows the strip's size, not the mesh's.
 Strip make_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::vector<int>& faces,
-                 const std::string& source, const NotADiskError& not_a_disk) {
+                 const std::string& source, const LoopRefusal& not_a_disk) {
   std::vector<int> vertices;
   vertices.reserve(3 * faces.size());
   for (int f : faces) vertices.insert(vertices.end(), mesh.faces[f].begin(), mesh.faces[f].end());
@@ -425,7 +424,7 @@ Strip make_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::vector<i
 }  // namespace
 
 Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::string& source) {
-  const NotADiskError not_a_disk{source, loop.id};
+  const LoopRefusal not_a_disk{source, loop.id};
   check_loop(mesh, loop, not_a_disk);
   std::vector<char> on_loop(mesh.vertex_count(), 0);
   for (int v : loop.vertices) on_loop[v] = 1;
@@ -434,9 +433,8 @@ Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::strin
     const Tri& face = mesh.faces[f];
     for (int v : face)
       if (v < 0 || v >= mesh.vertex_count())
-        throw Error(ErrorKind::BadFace, source + ": face " + std::to_string(f) +
-                                            " has vertex index " + std::to_string(v) +
-                                            " out of range");
+        throw BadFaceError(source + ": face " + std::to_string(f) + " has vertex index " +
+                           std::to_string(v) + " out of range");
     if (on_loop[face[0]] || on_loop[face[1]] || on_loop[face[2]]) faces.push_back(f);
   }
   return make_strip(mesh, loop, faces, source, not_a_disk);
@@ -445,11 +443,10 @@ Strip extract_strip(const Mesh& mesh, const BoundaryLoop& loop, const std::strin
 Strip extract_strip(const Mesh& mesh, const VertexFaces& vertex_faces, const BoundaryLoop& loop,
                     const std::string& source) {
   if (vertex_faces.vertex_count() != mesh.vertex_count())
-    throw Error(ErrorKind::Internal, source + ": extract_strip was given the vertex faces of " +
-                                         std::to_string(vertex_faces.vertex_count()) +
-                                         " vertices for a mesh of " +
-                                         std::to_string(mesh.vertex_count()));
-  const NotADiskError not_a_disk{source, loop.id};
+    throw InternalError(source + ": extract_strip was given the vertex faces of " +
+                        std::to_string(vertex_faces.vertex_count()) + " vertices for a mesh of " +
+                        std::to_string(mesh.vertex_count()));
+  const LoopRefusal not_a_disk{source, loop.id};
   check_loop(mesh, loop, not_a_disk);
   std::vector<int> faces;
   for (int v : loop.vertices)
@@ -465,7 +462,7 @@ namespace {
 void check_strip(const Strip& strip, const std::string& source) {
   if (strip.loop_size < 3 || strip.positions.size() < static_cast<size_t>(strip.loop_size) ||
       strip.faces.empty())
-    throw Error(ErrorKind::Internal, source + ": flatten_strip was given an empty strip");
+    throw InternalError(source + ": flatten_strip was given an empty strip");
 }
 
 }  // namespace
@@ -480,18 +477,17 @@ Flattening flatten_strip(const Strip& strip, const std::string& source) {
   flat.flipped_triangles = count_flipped(strip, flat.uv);
   flat.simple_polygon = is_simple(hole_polygon(strip, flat));
   if (flat.flipped_triangles > 0)
-    throw Error(ErrorKind::FillFailed, source + ": flattening has " +
-                                           std::to_string(flat.flipped_triangles) +
-                                           " flipped or degenerate triangles (of " +
-                                           std::to_string(strip.faces.size()) + " in the strip)");
+    throw FillFailedError(source + ": flattening has " + std::to_string(flat.flipped_triangles) +
+                          " flipped or degenerate triangles (of " +
+                          std::to_string(strip.faces.size()) + " in the strip)");
   if (!flat.simple_polygon)
-    throw Error(ErrorKind::FillFailed, source + ": the flattened hole outline crosses itself");
+    throw FillFailedError(source + ": the flattened hole outline crosses itself");
   // The strip lies to the right of the loop, so a clockwise outline has the
   // surface inside it: the loop is an outer edge.
   if (!is_counter_clockwise(hole_polygon(strip, flat)))
-    throw Error(ErrorKind::FillFailed, source +
-                                           ": the flattened loop runs clockwise, so the surface "
-                                           "lies inside it: it is an outer edge, not a hole");
+    throw FillFailedError(source +
+                          ": the flattened loop runs clockwise, so the surface "
+                          "lies inside it: it is an outer edge, not a hole");
   return flat;
 }
 
@@ -562,13 +558,13 @@ Flattening flatten_strip_repaired(const Strip& strip, const std::string& source)
     flat.simple_polygon = true;
     if (flat.flipped_triangles == 0) return flat;
   }
-  throw Error(ErrorKind::FillFailed,
-              source + ": no outline of the loop's edge lengths flattens its strip unflipped");
+  throw FillFailedError(source +
+                        ": no outline of the loop's edge lengths flattens its strip unflipped");
 }
 
 std::vector<Vec2> hole_polygon(const Strip& strip, const Flattening& flat) {
   if (flat.uv.size() < static_cast<size_t>(strip.loop_size))
-    throw Error(ErrorKind::Internal, "hole_polygon: the flattening is not the strip's");
+    throw InternalError("hole_polygon: the flattening is not the strip's");
   return std::vector<Vec2>(flat.uv.begin(), flat.uv.begin() + strip.loop_size);
 }
 

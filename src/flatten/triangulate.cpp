@@ -59,22 +59,21 @@ std::vector<Point> to_points(const std::vector<Vec2>& uv) {
 // coordinates (decided with exact predicates).
 void check_polygon(const std::vector<Vec2>& polygon) {
   if (polygon.size() < 3)
-    throw Error(ErrorKind::FillFailed, std::string(kSource) + ": the hole polygon has " +
-                                           std::to_string(polygon.size()) +
-                                           " vertices, at least 3 are needed");
+    throw FillFailedError(std::string(kSource) + ": the hole polygon has " +
+                          std::to_string(polygon.size()) + " vertices, at least 3 are needed");
   for (const Vec2& p : polygon)
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
-      throw Error(ErrorKind::FillFailed,
-                  std::string(kSource) + ": the hole polygon has a non-finite coordinate");
+      throw FillFailedError(std::string(kSource) +
+                            ": the hole polygon has a non-finite coordinate");
   const std::vector<Point> points = to_points(polygon);
   if (!CGAL::is_simple_2(points.begin(), points.end(), Kernel()))
-    throw Error(ErrorKind::FillFailed, std::string(kSource) +
-                                           ": the hole polygon is not simple (it crosses or "
-                                           "touches itself)");
+    throw FillFailedError(std::string(kSource) +
+                          ": the hole polygon is not simple (it crosses or "
+                          "touches itself)");
   if (CGAL::orientation_2(points.begin(), points.end(), Kernel()) != CGAL::COUNTERCLOCKWISE)
-    throw Error(ErrorKind::FillFailed, std::string(kSource) +
-                                           ": the hole polygon is clockwise, counter-clockwise "
-                                           "is expected");
+    throw FillFailedError(std::string(kSource) +
+                          ": the hole polygon is clockwise, counter-clockwise "
+                          "is expected");
 }
 
 // The length-weighted mean edge length, sum l^2 / sum l: the mean for even
@@ -238,8 +237,7 @@ std::vector<Tri> constrained_delaunay(const std::vector<Vec2>& uv, int boundary_
     cdt.insert_constraint(handles[k], handles[(k + 1) % boundary_count]);
   cdt.insert(interior.begin(), interior.end());
   if (cdt.number_of_vertices() != uv.size())
-    throw Error(ErrorKind::Internal,
-                std::string(kSource) + ": the triangulation lost or added vertices");
+    throw InternalError(std::string(kSource) + ": the triangulation lost or added vertices");
 
   // The inside: flood from the faces left of the polygon's edges, stopping at
   // constraints (the polygon's edges are the only ones).
@@ -250,7 +248,7 @@ std::vector<Tri> constrained_delaunay(const std::vector<Vec2>& uv, int boundary_
     int opposite = 0;
     const auto from = handles[k], to = handles[(k + 1) % boundary_count];
     if (!cdt.is_edge(from, to, face, opposite))
-      throw Error(ErrorKind::Internal, std::string(kSource) + ": a polygon edge went missing");
+      throw InternalError(std::string(kSource) + ": a polygon edge went missing");
     if (face->vertex(Cdt::ccw(opposite)) != from) face = face->neighbor(opposite);
     stack.push_back(face);
   }
@@ -304,7 +302,7 @@ std::vector<Tri> flip_to_delaunay(const std::vector<Vec2>& uv, std::vector<Tri> 
   const auto corner_facing = [&](int g, int f) {
     for (int m = 0; m < 3; ++m)
       if (neighbour[3 * g + m] == f) return m;
-    throw Error(ErrorKind::Internal, std::string(kSource) + ": broken face adjacency");
+    throw InternalError(std::string(kSource) + ": broken face adjacency");
   };
   const auto replace_neighbour = [&](int face, int from, int to) {
     if (face >= 0) neighbour[3 * face + corner_facing(face, from)] = to;
@@ -419,16 +417,15 @@ void measure_quality(FlatPatch& patch) {
 
 FlatPatch triangulate_hole(const std::vector<Vec2>& polygon, const TriangulateOptions& options) {
   if (!(options.density > 0) || !std::isfinite(options.density))
-    throw Error(ErrorKind::Usage, std::string(kSource) + ": the density must be positive, not " +
-                                      std::to_string(options.density));
+    throw UsageError(std::string(kSource) + ": the density must be positive, not " +
+                     std::to_string(options.density));
   check_polygon(polygon);
   const double spacing = mean_edge_length(polygon) / options.density;
   const double expected_interior = polygon_area(polygon) / (spacing * spacing * std::sqrt(3.0) / 2);
   if (expected_interior > kMaxInteriorVertices)
-    throw Error(ErrorKind::FillFailed,
-                std::string(kSource) + ": the patch would have about " +
-                    std::to_string(static_cast<long long>(expected_interior)) +
-                    " interior vertices, too many (is the density right?)");
+    throw FillFailedError(std::string(kSource) + ": the patch would have about " +
+                          std::to_string(static_cast<long long>(expected_interior)) +
+                          " interior vertices, too many (is the density right?)");
 
   FlatPatch patch;
   patch.boundary_count = static_cast<int>(polygon.size());

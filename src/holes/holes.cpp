@@ -138,9 +138,9 @@ LinkedBoundary link_boundary(const std::vector<Tri>& faces, const VertexFaces& v
     const int fan_count = group_into_fans(corners, by_previous, fan);
     const int open_fans = out_start[v + 1] - out_start[v];  // one boundary half-edge out of each
     if (fan_count > 1 && open_fans < fan_count)
-      throw Error(ErrorKind::NonManifold, source + ": vertex " + std::to_string(v) +
-                                              " is non-manifold (its faces form " +
-                                              std::to_string(fan_count) + " separate fans)");
+      throw NonManifoldError(source + ": vertex " + std::to_string(v) +
+                             " is non-manifold (its faces form " + std::to_string(fan_count) +
+                             " separate fans)");
     linked.pinched[v] = fan_count > 1;
     // Corners are in face order.
     const auto fan_of_face = [&](int face) {
@@ -155,8 +155,8 @@ LinkedBoundary link_boundary(const std::vector<Tri>& faces, const VertexFaces& v
       const int h = incoming[k];
       linked.next[h] = outgoing_of_fan[fan_of_face(boundary[h].face)];
       if (linked.next[h] < 0)
-        throw Error(ErrorKind::Internal,
-                    source + ": boundary at vertex " + std::to_string(v) + " has no outgoing edge");
+        throw InternalError(source + ": boundary at vertex " + std::to_string(v) +
+                            " has no outgoing edge");
     }
   }
   return linked;
@@ -178,8 +178,8 @@ std::vector<std::vector<int>> trace_cycles(const std::vector<BoundaryHalfEdge>& 
       vertices.push_back(half_edges[h].from);
     }
     if (h != static_cast<int>(start)) {
-      throw Error(ErrorKind::Internal, source + ": boundary chain from vertex " +
-                                           std::to_string(vertices.front()) + " does not close");
+      throw InternalError(source + ": boundary chain from vertex " +
+                          std::to_string(vertices.front()) + " does not close");
     }
     cycles.push_back(std::move(vertices));
   }
@@ -387,8 +387,8 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 double distance_to_loop(const Vec3& p, const BoundaryLoop& loop, const std::string& source) {
   const size_t n = loop.positions.size();
   if (n == 0 || n != loop.vertices.size()) {
-    throw Error(ErrorKind::Internal, source + ": loop " + std::to_string(loop.id) +
-                                         " has no positions (not from find_boundary_loops)");
+    throw InternalError(source + ": loop " + std::to_string(loop.id) +
+                        " has no positions (not from find_boundary_loops)");
   }
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < n; ++i) {
@@ -397,13 +397,12 @@ double distance_to_loop(const Vec3& p, const BoundaryLoop& loop, const std::stri
   return best;
 }
 
-// The loop closest to `point`. Throws Error(Usage) when the point is farther
+// The loop closest to `point`. Throws UsageError when the point is farther
 // from every loop than that loop's bounding-box diagonal (it names no loop).
 int nearest_loop(const std::vector<BoundaryLoop>& loops, const Vec3& point,
                  const std::string& source) {
   if (loops.empty()) {
-    throw Error(ErrorKind::Usage,
-                source + ": no loop to select near a point (the mesh has no boundary)");
+    throw UsageError(source + ": no loop to select near a point (the mesh has no boundary)");
   }
   int best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
@@ -417,11 +416,10 @@ int nearest_loop(const std::vector<BoundaryLoop>& loops, const Vec3& point,
     }
   }
   if (!within_a_loop) {
-    throw Error(ErrorKind::Usage, source + ": no loop near the point " + format_point(point) +
-                                      ": the nearest, loop " + std::to_string(best) + ", is " +
-                                      format_number(best_distance) +
-                                      " away, farther than its size (" +
-                                      format_number(loops[best].bbox_diagonal) + ")");
+    throw UsageError(source + ": no loop near the point " + format_point(point) +
+                     ": the nearest, loop " + std::to_string(best) + ", is " +
+                     format_number(best_distance) + " away, farther than its size (" +
+                     format_number(loops[best].bbox_diagonal) + ")");
   }
   return best;
 }
@@ -440,11 +438,10 @@ std::vector<int> named_loops(const std::vector<BoundaryLoop>& loops, const HoleS
   }
   for (int id : ids) {
     if (id < 0 || id >= static_cast<int>(loops.size())) {
-      throw Error(ErrorKind::Usage, source + ": no loop with id " + std::to_string(id) +
-                                        " (the mesh has " + std::to_string(loops.size()) +
-                                        " loops)");
+      throw UsageError(source + ": no loop with id " + std::to_string(id) + " (the mesh has " +
+                       std::to_string(loops.size()) + " loops)");
     }
-    if (!loops[id].is_disk) throw Error(ErrorKind::NotADisk, source + ": " + not_a_disk(loops[id]));
+    if (!loops[id].is_disk) throw NotADiskError(source + ": " + not_a_disk(loops[id]));
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());

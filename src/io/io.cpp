@@ -14,7 +14,7 @@ namespace foldfill {
 namespace io_detail {
 
 void fail(ErrorKind kind, const std::string& source, const std::string& problem) {
-  throw Error(kind, source + ": " + problem);
+  throw_error(kind, source + ": " + problem);
 }
 
 std::string excerpt(std::string_view text) {
@@ -148,7 +148,7 @@ void validate_face_attributes(const Mesh& mesh, const std::vector<Tri>& face_att
   }
 }
 
-// Throws Error(Internal) unless `values` has `count` entries (or none, with
+// Throws InternalError unless `values` has `count` entries (or none, with
 // `may_be_empty`): the per-element data that comes with a mesh, which a fill
 // extends over what it appends (foldfill/marks.h).
 template <class T>

@@ -22,7 +22,7 @@
 
 namespace foldfill::io_detail {
 
-// Throws Error(kind, "SOURCE: problem").
+// Throws the Error subclass of `kind` (throw_error), "SOURCE: problem".
 [[noreturn]] void fail(ErrorKind kind, const std::string& source, const std::string& problem);
 
 // A short, printable, one-line excerpt of `text` for error messages.

@@ -114,9 +114,9 @@ void check_options(const FillOptions& options, const std::string& source) {
                            options.energy.repulsion != EnergyOptions{}.repulsion ||
                            options.solver.step != SolverOptions{}.step;
   if (weights_set)
-    throw Error(ErrorKind::Usage, source +
-                                      ": the prototype's weights replace lambda, repulsion and "
-                                      "the descent step; set one or the other");
+    throw UsageError(source +
+                     ": the prototype's weights replace lambda, repulsion and "
+                     "the descent step; set one or the other");
 }
 
 Mesh flat_mesh(const std::vector<Vec2>& uv, const std::vector<Tri>& faces) {
@@ -159,7 +159,7 @@ std::string without_prefix(const std::string& message, const std::string& where)
 
 void throw_if_cancelled(const FillContext& context, const std::string& where) {
   if (context.cancelled.load(std::memory_order_relaxed))
-    throw Error(ErrorKind::FillFailed, where + ": cancelled");
+    throw FillFailedError(where + ": cancelled");
 }
 
 // ---- Reach ------------------------------------------------------------------
@@ -651,8 +651,7 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
             ? minimise_folds_first(level, level_energy, &level_contact, *from, level_solver,
                                    options.stiff_start_lambda, budget)
             : minimise(level_energy, &level_contact, *from, level_solver, budget);
-    if (solved.stop_reason == StopReason::Cancelled)
-      throw Error(ErrorKind::FillFailed, "cancelled");
+    if (solved.stop_reason == StopReason::Cancelled) throw FillFailedError("cancelled");
     const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
     coarse = interpolate_patch(level, level_energy.positions(solved.x), finer);
   }
@@ -706,12 +705,11 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
 // Thrown by fill_fabric, when told to, where no start that crosses nothing
 // was found: the chain tries the other steps before it minimises without the
 // guarantee.
-struct NoCleanStart : Error {
+struct NoCleanStart : FillFailedError {
   explicit NoCleanStart(const std::string& where)
-      : Error(ErrorKind::FillFailed,
-              where +
-                  ": no start that crosses nothing was found (the ARAP start and the "
-                  "membrane both cross something)") {}
+      : FillFailedError(where +
+                        ": no start that crosses nothing was found (the ARAP start and the "
+                        "membrane both cross something)") {}
 };
 
 HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
@@ -774,12 +772,11 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   report.iterations = solved.iterations;
   report.stop_reason = solved.stop_reason;
   report.seconds.optimize = seconds_since(stage);
-  if (solved.stop_reason == StopReason::Cancelled)
-    throw Error(ErrorKind::FillFailed, where + ": cancelled");
+  if (solved.stop_reason == StopReason::Cancelled) throw FillFailedError(where + ": cancelled");
   const std::vector<Vec3> final_positions = energy.positions(solved.x);
   if (!all_finite(final_positions))
-    throw Error(ErrorKind::FillFailed, where + ": the patch has non-finite positions (stop: " +
-                                           to_string(solved.stop_reason) + ")");
+    throw FillFailedError(where + ": the patch has non-finite positions (stop: " +
+                          to_string(solved.stop_reason) + ")");
   report.warning = patch_warning(report, where);
 
   // Measure.
@@ -835,11 +832,10 @@ void check_patch_shape(const Mesh& mesh, HolePatch& patch, double min_angle,
                        const std::string& where) {
   patch.report.patch_min_angle_deg = patch_min_angle(mesh, patch);
   if (!(patch.report.patch_min_angle_deg > kDegenerateAngle))
-    throw Error(ErrorKind::FillFailed, where + ": the patch has a face of zero area");
+    throw FillFailedError(where + ": the patch has a face of zero area");
   if (patch.report.patch_min_angle_deg < min_angle)
-    throw Error(ErrorKind::FillFailed, where + ": the patch has a face with a " +
-                                           std::to_string(patch.report.patch_min_angle_deg) +
-                                           " degree angle");
+    throw FillFailedError(where + ": the patch has a face with a " +
+                          std::to_string(patch.report.patch_min_angle_deg) + " degree angle");
 }
 
 // One smooth step of the chain.
@@ -876,7 +872,7 @@ void check_outside_obstacles(const HolePatch& patch, const std::vector<Obstacle>
     const double allowed = depth + kMeshClearance * length_scale;
     for (const Vec3& p : patch.new_positions)
       if (signed_distance(obstacle, p) < -allowed)
-        throw Error(ErrorKind::FillFailed, where + ": the patch enters an obstacle");
+        throw FillFailedError(where + ": the patch enters an obstacle");
   }
 }
 
@@ -1048,7 +1044,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
     for (size_t k = 1; k < reasons.size(); ++k) all += (k > 1 ? "; " : " ") + reasons[k];
     all += ")";
   }
-  throw Error(ErrorKind::FillFailed, where + ": " + all);
+  throw FillFailedError(where + ": " + all);
 }
 
 // ---- Stitching -------------------------------------------------------------------
@@ -1135,9 +1131,8 @@ std::vector<HolePatch> fill_patches(const FillContext& context,
                                     const std::vector<int>& fill_ids) {
   for (int id : fill_ids)
     if (id < 0 || id >= static_cast<int>(loops.size()))
-      throw Error(ErrorKind::Usage, context.source + ": no loop with id " + std::to_string(id) +
-                                        " (the mesh has " + std::to_string(loops.size()) +
-                                        " loops)");
+      throw UsageError(context.source + ": no loop with id " + std::to_string(id) +
+                       " (the mesh has " + std::to_string(loops.size()) + " loops)");
   const int count = static_cast<int>(fill_ids.size());
   std::vector<Box3> reach(count);
   for (int h = 0; h < count; ++h) reach[h] = reach_box(loops[fill_ids[h]]);

@@ -28,7 +28,7 @@ SurfaceMesh to_surface_mesh(const Mesh& mesh, const std::string& source) {
   for (const Tri& f : mesh.faces) {
     if (sm.add_face(SurfaceMesh::Vertex_index(f[0]), SurfaceMesh::Vertex_index(f[1]),
                     SurfaceMesh::Vertex_index(f[2])) == SurfaceMesh::null_face()) {
-      throw Error(ErrorKind::NonManifold, source + ": CGAL cannot build a surface mesh from it");
+      throw NonManifoldError(source + ": CGAL cannot build a surface mesh from it");
     }
   }
   return sm;
@@ -40,8 +40,7 @@ SurfaceMesh::Halfedge_index border_halfedge(const SurfaceMesh& sm, const Boundar
   for (auto h : CGAL::halfedges_around_source(from, sm)) {
     if (sm.target(h) == to && sm.is_border(h)) return h;
   }
-  throw Error(ErrorKind::Internal,
-              "liepa: loop " + std::to_string(loop.id) + " has no border half-edge");
+  throw InternalError("liepa: loop " + std::to_string(loop.id) + " has no border half-edge");
 }
 
 }  // namespace

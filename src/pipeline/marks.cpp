@@ -80,9 +80,9 @@ void mark_new_elements(Mesh& mesh, const std::vector<BoundaryLoop>& loops, FillR
   if (input_vertices < 0 || input_faces < 0 ||
       carried_count(mesh.vertex_properties, input_vertices) != input_vertices ||
       carried_count(mesh.face_properties, input_faces) != input_faces) {
-    throw Error(ErrorKind::Internal, "the fill's report counts " + std::to_string(new_vertices) +
-                                         " new vertices and " + std::to_string(new_faces) +
-                                         " new faces, which do not match its output");
+    throw InternalError("the fill's report counts " + std::to_string(new_vertices) +
+                        " new vertices and " + std::to_string(new_faces) +
+                        " new faces, which do not match its output");
   }
   mesh.vertex_hole.assign(static_cast<size_t>(input_vertices), -1);
   mesh.face_hole.assign(static_cast<size_t>(input_faces), -1);

@@ -172,7 +172,7 @@ bool faces_intersect(const std::vector<Vec3>& positions, const Tri& f, const Tri
   }
   auto corner = [&](const Tri& t, int k) { return point(positions[t[k % 3]]); };
   if (shared == 3) {
-    throw Error(ErrorKind::Internal, "self-intersection test: the faces do not form a manifold");
+    throw InternalError("self-intersection test: the faces do not form a manifold");
   }
   if (shared == 2) {
     const Kernel::Point_3 a = corner(f, f_own + 1), b = corner(f, f_own + 2),
@@ -299,7 +299,7 @@ SurfaceDistance surface_distance(const std::vector<Vec3>& positions_a,
   const std::vector<Triangle> triangles_a = nondegenerate_triangles(positions_a, faces_a);
   const std::vector<Triangle> triangles_b = nondegenerate_triangles(positions_b, faces_b);
   if (triangles_a.empty() || triangles_b.empty()) {
-    throw Error(ErrorKind::Usage, "surface distance: a surface has no non-degenerate triangle");
+    throw UsageError("surface distance: a surface has no non-degenerate triangle");
   }
   const TriangleTree tree_a(triangles_a.begin(), triangles_a.end());
   const TriangleTree tree_b(triangles_b.begin(), triangles_b.end());
@@ -326,7 +326,7 @@ std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
       }
     }
     if (count != 2) {
-      throw Error(ErrorKind::Usage, "dihedral angle: edge " + std::to_string(a) + "-" +
+      throw UsageError("dihedral angle: edge " + std::to_string(a) + "-" +
                                         std::to_string(b) + " is not shared by two faces");
     }
     angles.push_back(normal_angle(positions, faces[shared[0]], faces[shared[1]]));
@@ -389,7 +389,7 @@ std::vector<int> vertices_within_rings(int vertex_count, const std::vector<Tri>&
   std::vector<int> distance(vertex_count, -1), frontier;
   for (int s : seeds) {
     if (s < 0 || s >= vertex_count) {
-      throw Error(ErrorKind::Usage, "rings: seed " + std::to_string(s) + " out of range");
+      throw UsageError("rings: seed " + std::to_string(s) + " out of range");
     }
     if (distance[s] < 0) frontier.push_back(s);
     distance[s] = 0;

@@ -75,8 +75,7 @@ class TriangleLocator {
       }
       if (inside >= 0) break;
     }
-    if (best < 0)
-      throw Error(ErrorKind::Internal, "interpolate_patch: a fine vertex lies outside the patch");
+    if (best < 0) throw InternalError("interpolate_patch: a fine vertex lies outside the patch");
     double sum = 0;
     for (double& w : best_weights) sum += w = std::max(w, 0.0);
     for (double& w : best_weights) w /= sum;
@@ -95,11 +94,10 @@ void check_same_strip(const EmbedDomain& coarse, const std::vector<Vec3>& coarse
                       const EmbedDomain& fine) {
   if (coarse.fixed_count != fine.fixed_count || coarse.loop_size != fine.loop_size ||
       coarse.strip_face_count != fine.strip_face_count || coarse.length_scale != fine.length_scale)
-    throw Error(ErrorKind::Internal, "interpolate_patch: the domains do not share their strip");
+    throw InternalError("interpolate_patch: the domains do not share their strip");
   if (coarse_positions.size() != coarse.rest_uv.size())
-    throw Error(ErrorKind::Internal,
-                "interpolate_patch: " + std::to_string(coarse_positions.size()) +
-                    " positions for " + std::to_string(coarse.rest_uv.size()) + " vertices");
+    throw InternalError("interpolate_patch: " + std::to_string(coarse_positions.size()) +
+                        " positions for " + std::to_string(coarse.rest_uv.size()) + " vertices");
 }
 
 }  // namespace
@@ -133,8 +131,8 @@ std::vector<EmbedDomain> coarser_levels(const Strip& strip, const Flattening& fl
   if (options.min_patch_vertices <= 0 || domain.free_count() < options.min_patch_vertices)
     return levels;
   if (!(options.coarsening > 1))
-    throw Error(ErrorKind::Usage,
-                "multilevel coarsening must be above 1, not " + std::to_string(options.coarsening));
+    throw UsageError("multilevel coarsening must be above 1, not " +
+                     std::to_string(options.coarsening));
   TriangulateOptions coarser = triangulate;
   int finer_free_count = domain.free_count();
   while (finer_free_count >= options.min_patch_vertices) {

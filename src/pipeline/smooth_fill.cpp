@@ -141,7 +141,7 @@ SmoothPatch fill_hole_smooth(const Mesh& mesh, const VertexFaces& vertex_faces,
                              const std::string& source, int rings) {
   const std::string where = source + ": loop " + std::to_string(loop.id);
   const int loop_size = static_cast<int>(loop.vertices.size());
-  if (loop_size < 3) throw Error(ErrorKind::NotADisk, where + ": it has fewer than 3 vertices");
+  if (loop_size < 3) throw NotADiskError(where + ": it has fewer than 3 vertices");
   const int continuity = fairing == SmoothFairing::Curvature ? 2 : 1;
   const Neighbourhood around =
       collect_neighbourhood(mesh, vertex_faces, loop, std::max(rings, continuity + 1));
@@ -159,9 +159,9 @@ SmoothPatch fill_hole_smooth(const Mesh& mesh, const VertexFaces& vertex_faces,
     // faces at the loop must all be there.
     if (added == SurfaceMesh::null_face() &&
         (f[0] < loop_size || f[1] < loop_size || f[2] < loop_size))
-      throw Error(ErrorKind::NotADisk, where +
-                                           ": the faces around it do not form a surface CGAL "
-                                           "can hold");
+      throw NotADiskError(where +
+                          ": the faces around it do not form a surface CGAL "
+                          "can hold");
   }
 
   SurfaceMesh::Halfedge_index border;
@@ -172,7 +172,7 @@ SmoothPatch fill_hole_smooth(const Mesh& mesh, const VertexFaces& vertex_faces,
       found = true;
       break;
     }
-  if (!found) throw Error(ErrorKind::NotADisk, where + ": it is not a border of its neighbourhood");
+  if (!found) throw NotADiskError(where + ": it is not a border of its neighbourhood");
 
   const size_t region_vertices = around.to_input.size();
   std::vector<SurfaceMesh::Face_index> faces;
@@ -186,7 +186,7 @@ SmoothPatch fill_hole_smooth(const Mesh& mesh, const VertexFaces& vertex_faces,
                                      std::back_inserter(vertices));
     patch.faired = fair(sm, region_vertices, continuity + 1);
   }
-  if (faces.empty()) throw Error(ErrorKind::FillFailed, where + ": CGAL found no triangulation");
+  if (faces.empty()) throw FillFailedError(where + ": CGAL found no triangulation");
 
   // New vertices in index order, after the loop.
   std::vector<int> patch_index(sm.number_of_vertices(), -1);
@@ -204,7 +204,7 @@ SmoothPatch fill_hole_smooth(const Mesh& mesh, const VertexFaces& vertex_faces,
     for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
       const int index = v.idx() < patch_index.size() ? patch_index[v.idx()] : -1;
       if (index < 0 || k >= 3)
-        throw Error(ErrorKind::Internal, where + ": CGAL's patch uses a vertex off the loop");
+        throw InternalError(where + ": CGAL's patch uses a vertex off the loop");
       t[k++] = index;
     }
     patch.faces.push_back(t);

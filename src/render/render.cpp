@@ -271,11 +271,11 @@ void write_png(const Image& image, const std::string& path) {
   }
   png_alloc_size_t size = 0;
   if (!png_image_write_get_memory_size(png, size, 0, pixels, 0, colormap)) {
-    throw Error(ErrorKind::CannotWrite, path + ": cannot encode PNG");
+    throw CannotWriteError(path + ": cannot encode PNG");
   }
   std::string bytes(size, '\0');
   if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, pixels, 0, colormap)) {
-    throw Error(ErrorKind::CannotWrite, path + ": cannot encode PNG");
+    throw CannotWriteError(path + ": cannot encode PNG");
   }
   bytes.resize(size);
   write_file_atomically(path, bytes);

@@ -358,10 +358,10 @@ std::string base64(const void* data, size_t size) {
 std::string view_page(const ViewMesh& input, const std::vector<ViewMesh>& filled,
                       const ViewOptions& options, std::vector<std::string>* warnings) {
   if (!view_available()) {
-    throw Error(ErrorKind::Usage, kViewUnavailable);
+    throw UsageError(kViewUnavailable);
   }
   if (!script_safe(assets::three_js()) || !script_safe(assets::view_js())) {
-    throw Error(ErrorKind::Internal, "the page's scripts cannot be inlined as they are");
+    throw InternalError("the page's scripts cannot be inlined as they are");
   }
 
   // The input's loops, outlined in every panel whose mesh starts with the input.
@@ -485,7 +485,7 @@ std::string view_page(const ViewMesh& input, const std::vector<ViewMesh>& filled
   for (const auto& [marker, text] : parts) {
     const size_t found = html.find(marker, at);
     if (found == std::string_view::npos)
-      throw Error(ErrorKind::Internal, "the page template has no " + std::string(marker));
+      throw InternalError("the page template has no " + std::string(marker));
     page.append(html.substr(at, found - at));
     page += text;
     at = found + marker.size();

@@ -23,11 +23,14 @@ int main() {
     foldfill::fill(input, request);
     std::fprintf(stderr, "consumer: loop 42 was accepted\n");
     return 1;
-  } catch (const foldfill::Error& e) {
+  } catch (const foldfill::UsageError& e) {
     if (e.kind() != foldfill::ErrorKind::Usage) {
-      std::fprintf(stderr, "consumer: unexpected error: %s\n", e.what());
+      std::fprintf(stderr, "consumer: a UsageError of kind %s\n", foldfill::to_string(e.kind()));
       return 1;
     }
+  } catch (const foldfill::Error& e) {
+    std::fprintf(stderr, "consumer: unexpected error: %s\n", e.what());
+    return 1;
   }
   std::printf("consumer: filled loop %d with %d faces\n", result.report.holes[0].loop_id,
               result.report.holes[0].patch_face_count);

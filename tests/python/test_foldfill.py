@@ -187,6 +187,8 @@ def test_bad_arrays_raise_clear_errors(vertices, faces, error, message):
             call(vertices, faces)
         assert isinstance(caught.value, foldfill.Error)
         assert isinstance(caught.value, ValueError)
+        # The mesh's content is an InputError, as in C++; bad arguments are not.
+        assert isinstance(caught.value, foldfill.InputError) == (error is not foldfill.UsageError)
 
 
 def test_file_errors(tmp_path, sheet):
@@ -194,8 +196,9 @@ def test_file_errors(tmp_path, sheet):
         foldfill.read(tmp_path / "missing.obj")
     assert isinstance(caught.value, OSError) and caught.value.kind == "cannot_read"
     (tmp_path / "garbage.off").write_text("not a mesh\n")
-    with pytest.raises(foldfill.FormatError):
+    with pytest.raises(foldfill.FormatError) as caught:
         foldfill.read(tmp_path / "garbage.off")
+    assert isinstance(caught.value, foldfill.InputError) and caught.value.kind == "bad_format"
     with pytest.raises(foldfill.UsageError, match="unknown mesh format"):
         foldfill.write(tmp_path / "sheet.xyz", *sheet)
     with pytest.raises(foldfill.WriteError):

@@ -37,12 +37,12 @@ inline std::vector<ClothCase> read_cloth_cases(const std::filesystem::path& fold
   const auto read = [](std::istream& in, const std::filesystem::path& path) {
     const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
     if (document.is_discarded())
-      throw Error(ErrorKind::CannotRead, path.string() + ": not a JSON document");
+      throw CannotReadError(path.string() + ": not a JSON document");
     return document;
   };
   const nlohmann::json manifest = read(manifest_file, folder / "manifest.json");
   if (!manifest.is_array())
-    throw Error(ErrorKind::CannotRead, (folder / "manifest.json").string() + ": not a case list");
+    throw CannotReadError((folder / "manifest.json").string() + ": not a case list");
   for (const auto& entry : manifest) {
     ClothCase c;
     c.name = entry.at("case").get<std::string>();
@@ -51,7 +51,7 @@ inline std::vector<ClothCase> read_cloth_cases(const std::filesystem::path& fold
     c.removed_mesh = folder / (c.name + "_removed.obj");
     const std::filesystem::path meta_path = folder / (c.name + ".json");
     std::ifstream meta_file(meta_path);
-    if (!meta_file) throw Error(ErrorKind::CannotRead, meta_path.string() + ": cannot read");
+    if (!meta_file) throw CannotReadError(meta_path.string() + ": cannot read");
     const nlohmann::json meta = read(meta_file, meta_path);
     try {
       const auto& loop = meta.at("hole_boundary").at("loop_hole_indices");
@@ -61,7 +61,7 @@ inline std::vector<ClothCase> read_cloth_cases(const std::filesystem::path& fold
       c.hole_to_truth = meta.at("hole_to_gt").get<std::vector<int>>();
       c.removed_to_truth = meta.at("removed_to_gt").get<std::vector<int>>();
     } catch (const nlohmann::json::exception& e) {
-      throw Error(ErrorKind::CannotRead, meta_path.string() + ": " + e.what());
+      throw CannotReadError(meta_path.string() + ": " + e.what());
     }
     cases.push_back(std::move(c));
   }

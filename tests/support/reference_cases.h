@@ -37,7 +37,7 @@ inline std::vector<ReferenceCase> read_reference_cases(const std::filesystem::pa
   if (!in) return cases;
   const nlohmann::json listing = nlohmann::json::parse(in, nullptr, false);
   if (listing.is_discarded() || !listing.contains("cases"))
-    throw Error(ErrorKind::CannotRead, (folder / "cases.json").string() + ": not a case list");
+    throw CannotReadError((folder / "cases.json").string() + ": not a case list");
   for (const auto& entry : listing["cases"]) {
     ReferenceCase c;
     c.file = entry.at("file").get<std::string>();
