@@ -465,6 +465,8 @@ struct Server::State {
   nlohmann::json end_edit() {
     check_editable();
     if (!dragging || !editor) throw Error(ErrorKind::Usage, "no edit begun");
+    const DragResult settled = editor->settle();
+    editor->write(result->mesh);
     editor->release();
     dragging = false;
     remeasure(editor->hole());
@@ -475,6 +477,7 @@ struct Server::State {
     reply["report"] = report;
     reply["undo"] = undo.size();
     reply["edits"] = edits;
+    reply["settle_iterations"] = settled.iterations;
     return reply;
   }
 

@@ -184,8 +184,6 @@ PatchEditor::PatchEditor(const Mesh& input, const FillResult& output, int hole,
   parts.solver = options.solver;
   parts.solver.kind = SolverKind::Fast;
   parts.solver.progress = nullptr;
-  parts.solver.max_iterations = edit.max_iterations;
-  parts.solver.time_limit_seconds = edit.time_limit_seconds;
 
   set_positions({output.mesh.positions.begin() + vertices_.first,
                  output.mesh.positions.begin() + vertices_.end});
@@ -203,11 +201,12 @@ void PatchEditor::grab(int vertex) {
                                       std::to_string(vertices_.first) + " to " +
                                       std::to_string(vertices_.end - 1) + ")");
   handle_ = vertex - vertices_.first;
+  target_.reset();
+  if (factor_handle_ != handle_) factor_.reset();
 }
 
 DragResult PatchEditor::drag(const Vec3& target) {
   if (handle_ < 0) throw Error(ErrorKind::Usage, parts_->source + ": no vertex grabbed");
-  const auto start = std::chrono::steady_clock::now();
   const Parts& parts = *parts_;
   Vec3 goal = parts.normalised(target);
   for (int c = 0; c < 3; ++c) {
@@ -215,9 +214,29 @@ DragResult PatchEditor::drag(const Vec3& target) {
       throw Error(ErrorKind::Usage, parts.source + ": the target is not a finite point");
     goal[c] = std::clamp(goal[c], parts.reach.low[c], parts.reach.high[c]);
   }
+  target_ = goal;
+  return minimise(goal, parts.edit.max_iterations, parts.edit.time_limit_seconds);
+}
+
+DragResult PatchEditor::settle() {
+  if (handle_ < 0 || !target_) return {};
+  return minimise(*target_, parts_->edit.settle_iterations, parts_->edit.settle_seconds);
+}
+
+DragResult PatchEditor::minimise(const Vec3& goal, int iterations, double seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  const Parts& parts = *parts_;
   const DragObjective objective(*parts.energy, *parts.contact, handle_, goal,
                                 parts.edit.handle_stiffness);
-  const SolverResult solved = minimize(objective, x_, parts.solver);
+  // The preconditioner does not depend on the target: factored once per handle.
+  if (!factor_) {
+    factor_ = std::make_unique<FactoredPreconditioner>(objective);
+    factor_handle_ = handle_;
+  }
+  SolverOptions solver = parts.solver;
+  solver.max_iterations = iterations;
+  solver.time_limit_seconds = seconds;
+  const SolverResult solved = minimize(objective, x_, solver, Budget(), factor_.get());
   DragResult result;
   // A start the objective refuses (Diverged after 0 iterations) leaves the state.
   if (solved.x.allFinite()) x_ = solved.x;

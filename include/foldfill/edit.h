@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,9 +28,17 @@ struct EditOptions {
   // still holds it off whatever it would cross.
   double handle_stiffness = 50;
   // Per drag(): the solver's iterations and time (0: none), warm-started
-  // from the state the previous drag left.
-  int max_iterations = 40;
-  double time_limit_seconds = 0.03;
+  // from the state the previous drag left. Iterations bound it best: a time
+  // limit that passes inside an iteration's line search loses that
+  // iteration's work. One iteration moves no vertex more than
+  // SolverOptions::max_displacement (0.2 loop edges); about 15 ms per
+  // iteration on a patch of 2,000 vertices (docs/benchmarks.md, "Editing").
+  int max_iterations = 2;
+  double time_limit_seconds = 0;
+  // settle(): at most these iterations (or seconds) with the handle held
+  // where the last drag took it, so that the cloth around it relaxes.
+  int settle_iterations = 200;
+  double settle_seconds = 1;
 };
 
 // What one drag() did.
@@ -43,7 +52,8 @@ struct DragResult {
 // domain planned again as the fill planned it, its energy with the weights
 // the patch was minimised with, the contact against the output around the
 // hole and the obstacles), then grab() a vertex and drag() it as often as
-// wanted; the preconditioner is factored per drag (a few milliseconds).
+// wanted; the solver's preconditioner (with the handle's spring) is factored
+// on the first drag of a handle and reused by the next.
 class PatchEditor {
  public:
   // `input` is the mesh that was filled and `output` the fill's result for
@@ -71,6 +81,11 @@ class PatchEditor {
   // within the options' iterations and time. Throws Error(Usage) without a
   // handle.
   DragResult drag(const Vec3& target);
+  // Minimises further with the handle held at the last drag's target (the
+  // options' settle_iterations and settle_seconds): what a release keeps.
+  // Nothing without a drag since the grab.
+  DragResult settle();
+  // Lets the handle go (its factored preconditioner is kept for a grab of it again).
   void release() { handle_ = -1; }
   int handle() const { return handle_ < 0 ? -1 : vertices_.first + handle_; }
 
@@ -93,7 +108,11 @@ class PatchEditor {
   std::unique_ptr<Parts> parts_;
   int hole_ = 0;
   IndexRange vertices_, faces_;
-  int handle_ = -1;  // free index, -1: none
+  int handle_ = -1;                                 // free index, -1: none
+  std::unique_ptr<FactoredPreconditioner> factor_;  // of the objective of handle factor_handle_
+  int factor_handle_ = -1;
+  std::optional<Vec3> target_;  // of the last drag, normalised and clamped
+  DragResult minimise(const Vec3& goal, int iterations, double seconds);
   Eigen::VectorXd x_;
 };
 
