@@ -23,15 +23,17 @@ namespace foldfill {
 
 struct EditOptions {
   // Weight of the spring that pulls the handle to its target, relative to
-  // the isometric term (normalised units, as the energy's weights): stiff,
-  // so that the handle follows the pointer, soft enough that the step bound
-  // still holds it off whatever it would cross.
-  double handle_stiffness = 50;
+  // the isometric term (normalised units, as the energy's weights): the
+  // handle reaches a target the cloth can reach without stretching much, and
+  // lags behind one it would have to stretch for (the cloth resists, as
+  // cloth held at one point does); the step bound holds it off whatever it
+  // would cross.
+  double handle_stiffness = 3;
   // Per drag(): the solver's iterations and time (0: none), warm-started
   // from the state the previous drag left. Iterations bound it best: a time
   // limit that passes inside an iteration's line search loses that
   // iteration's work. One iteration moves no vertex more than
-  // SolverOptions::max_displacement (0.2 loop edges); about 15 ms per
+  // SolverOptions::max_displacement (0.2 loop edges); 10 to 20 ms per
   // iteration on a patch of 2,000 vertices (docs/benchmarks.md, "Editing").
   int max_iterations = 2;
   double time_limit_seconds = 0;
@@ -83,7 +85,8 @@ class PatchEditor {
   DragResult drag(const Vec3& target);
   // Minimises further with the handle held at the last drag's target (the
   // options' settle_iterations and settle_seconds): what a release keeps.
-  // Nothing without a drag since the grab.
+  // Nothing without a drag since the grab. Deterministic where the
+  // iterations end it before the time limit.
   DragResult settle();
   // Lets the handle go (its factored preconditioner is kept for a grab of it again).
   void release() { handle_ = -1; }

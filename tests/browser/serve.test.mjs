@@ -228,7 +228,7 @@ test('obstacles, Liepa side by side, and the edit tool drags a patch point', asy
   await tab.mouse.move(at.x, at.y);
   await tab.mouse.down();
   for (let k = 1; k <= 10; ++k) {
-    await tab.mouse.move(at.x, at.y - 6 * k);
+    await tab.mouse.move(at.x, at.y - 3 * k);
     await new Promise((resolve) => setTimeout(resolve, 60));
   }
   await tab.mouse.up();
