@@ -403,6 +403,8 @@ struct Server::State {
 
   nlohmann::json begin_edit(const nlohmann::json& body) {
     check_editable();
+    // A drag whose end never came (the page lost the pointer) ends here.
+    if (dragging) end_edit();
     if (!body.contains("vertex") || !body["vertex"].is_number_integer())
       throw Error(ErrorKind::Usage, "vertex: not given as a vertex index of the result");
     const int vertex = body["vertex"].get<int>();
