@@ -3,20 +3,24 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string_view>
 #include <thread>
 
+#include "foldfill/edit.h"
 #include "foldfill/error.h"
 #include "foldfill/file.h"
 #include "foldfill/fill.h"
 #include "foldfill/io.h"
+#include "foldfill/obstacles.h"
 #include "foldfill/view.h"
 
 // After Eigen (through fill.h): <resolv.h>, which httplib.h includes, defines
@@ -78,6 +82,47 @@ nlohmann::json mesh_buffers(const Mesh& mesh) {
   if (mesh.face_hole.size() == mesh.faces.size()) {
     const std::vector<int32_t> holes(mesh.face_hole.begin(), mesh.face_hole.end());
     out["face_hole"] = base64(holes.data(), holes.size() * sizeof(int32_t));
+  }
+  return out;
+}
+
+// The positions (float32, base64) of output vertices [first, end): a patch
+// as an edit leaves it.
+nlohmann::json patch_buffer(const Mesh& mesh, IndexRange range) {
+  std::vector<float> positions;
+  positions.reserve(static_cast<size_t>(range.size()) * 3);
+  for (int v = range.first; v < range.end; ++v)
+    for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(mesh.positions[v][k]));
+  return {{"first", range.first},
+          {"count", range.size()},
+          {"positions", base64(positions.data(), positions.size() * sizeof(float))}};
+}
+
+// A JSON object body, or nothing (an empty body is {}).
+std::optional<nlohmann::json> object_body(const std::string& text) {
+  nlohmann::json body =
+      text.empty() ? nlohmann::json::object() : nlohmann::json::parse(text, nullptr, false);
+  if (body.is_discarded() || !body.is_object()) return std::nullopt;
+  return body;
+}
+
+// The obstacles as triangles for the page: a mesh obstacle's own, a sphere,
+// cylinder or plane tessellated near `box` (the mesh's, grown).
+nlohmann::json obstacle_buffers(const std::vector<Obstacle>& obstacles, const Box3& box) {
+  nlohmann::json out = nlohmann::json::array();
+  double diagonal = 0;
+  for (int c = 0; c < 3; ++c) diagonal += (box.high[c] - box.low[c]) * (box.high[c] - box.low[c]);
+  diagonal = std::sqrt(diagonal);
+  for (const Obstacle& o : obstacles) {
+    const Mesh triangles = o.type == Obstacle::Type::Mesh
+                               ? o.mesh->mesh()
+                               : tessellate_obstacle(o, box, std::max(diagonal, 1e-9) / 40, 0);
+    nlohmann::json item = mesh_buffers(triangles);
+    item["type"] = o.type == Obstacle::Type::Mesh       ? "mesh"
+                   : o.type == Obstacle::Type::Sphere   ? "sphere"
+                   : o.type == Obstacle::Type::Cylinder ? "cylinder"
+                                                        : "plane";
+    out.push_back(std::move(item));
   }
   return out;
 }
@@ -174,6 +219,67 @@ struct Server::State {
   std::optional<FillOutput> result;
   nlohmann::json report;
   std::thread worker;
+  // CGAL's Liepa fill of the same holes, when the fill asked for it.
+  bool compare_liepa = false;
+  std::optional<FillOutput> liepa;
+  nlohmann::json liepa_report;
+
+  // The obstacles of the next fills: those of the obstacles JSON and an
+  // uploaded mesh.
+  std::vector<Obstacle> obstacles;
+  std::optional<Obstacle> mesh_obstacle;
+
+  // The edit tool: the editor of the hole last grabbed (built on the first
+  // grab of that hole, kept while its patch is edited), the drag under way
+  // and the states before each edit.
+  struct Undo {
+    int hole = -1;                // index into the report's holes
+    std::vector<Vec3> positions;  // the patch's new vertices
+    HoleReport report;
+  };
+  std::unique_ptr<PatchEditor> editor;
+  bool dragging = false;
+  Undo before_drag;
+  std::vector<Undo> undo;
+  int edits = 0;
+  static constexpr size_t kMaxUndo = 64;
+
+  void reset_edits() {
+    editor.reset();
+    dragging = false;
+    undo.clear();
+    edits = 0;
+  }
+
+  std::vector<Obstacle> all_obstacles() const {
+    std::vector<Obstacle> all = obstacles;
+    if (mesh_obstacle) all.push_back(*mesh_obstacle);
+    return all;
+  }
+
+  // The box obstacles are shown in: the mesh's, grown by a quarter of its diagonal.
+  Box3 view_box() const {
+    if (!mesh || mesh->positions.empty()) return {{-1, -1, -1}, {1, 1, 1}};
+    Box3 box{mesh->positions[0], mesh->positions[0]};
+    for (const Vec3& p : mesh->positions)
+      for (int c = 0; c < 3; ++c) {
+        box.low[c] = std::min(box.low[c], p[c]);
+        box.high[c] = std::max(box.high[c], p[c]);
+      }
+    double diagonal = 0;
+    for (int c = 0; c < 3; ++c) diagonal += (box.high[c] - box.low[c]) * (box.high[c] - box.low[c]);
+    const double grow = 0.25 * std::sqrt(diagonal);
+    for (int c = 0; c < 3; ++c) {
+      box.low[c] -= grow;
+      box.high[c] += grow;
+    }
+    return box;
+  }
+
+  nlohmann::json obstacles_reply() const {
+    return {{"obstacles", obstacle_buffers(all_obstacles(), view_box())},
+            {"mesh_obstacle", mesh_obstacle.has_value()}};
+  }
 
   void open(const std::string& bytes, const std::string& file_name) {
     std::vector<std::string> warnings;
@@ -197,6 +303,9 @@ struct Server::State {
     mesh_reply = std::move(reply);
     result.reset();
     report = nullptr;
+    liepa.reset();
+    liepa_report = nullptr;
+    reset_edits();
     done = false;
     error.clear();
   }
@@ -207,6 +316,14 @@ struct Server::State {
     if (!mesh) throw UsageError("no mesh: upload one first");
     if (running) throw UsageError("a fill is running: cancel it first");
     request = fill_request(body, name);
+    compare_liepa = false;
+    if (body.contains("compare_liepa") && !body["compare_liepa"].is_null()) {
+      if (!body["compare_liepa"].is_boolean())
+        throw UsageError("compare_liepa: " + body["compare_liepa"].dump() +
+                         " is not true or false");
+      compare_liepa = body["compare_liepa"].get<bool>();
+    }
+    request.options.obstacles = all_obstacles();
     request.options.progress = [this](int id, const SolverProgress& progress) {
       std::lock_guard<std::mutex> progress_lock(mutex);
       hole = id;
@@ -225,6 +342,9 @@ struct Server::State {
     error.clear();
     result.reset();
     report = nullptr;
+    liepa.reset();
+    liepa_report = nullptr;
+    reset_edits();
     worker = std::thread([this] { run(); });
     return job;
   }
@@ -235,15 +355,26 @@ struct Server::State {
     std::optional<FillOutput> output;
     nlohmann::json json;
     std::string failure;
+    std::optional<FillOutput> smooth;
+    nlohmann::json smooth_json;
     try {
       output = fill(input, request);
       json = report_json(input, *output, request);
+      if (compare_liepa && !output->report.cancelled && !cancel.load()) {
+        FillRequest same = request;
+        same.algorithm = FillAlgorithm::Liepa;
+        same.options.progress = nullptr;
+        smooth = fill(input, same);
+        smooth_json = report_json(input, *smooth, same);
+      }
     } catch (const std::exception& e) {
       failure = e.what();
     }
     std::lock_guard<std::mutex> lock(mutex);
     result = std::move(output);
     report = std::move(json);
+    liepa = std::move(smooth);
+    liepa_report = std::move(smooth_json);
     error = failure;
     running = false;
     done = true;
@@ -259,6 +390,115 @@ struct Server::State {
             {"energy", energy},
             {"cancelled", cancel.load()},
             {"error", error.empty() ? nlohmann::json(nullptr) : nlohmann::json(error)}};
+  }
+
+  // The edit tool (POST /api/edit/...); each throws Error(Usage) for a
+  // request it cannot take, with the reason. Called with the mutex held.
+  void check_editable() const {
+    if (running) throw UsageError("a fill is running: wait for it or cancel it");
+    if (!result) throw UsageError("no fill yet: fill first, then edit its patches");
+  }
+
+  nlohmann::json begin_edit(const nlohmann::json& body) {
+    check_editable();
+    // A drag whose end never came (the page lost the pointer) ends here.
+    if (dragging) end_edit();
+    if (!body.contains("vertex") || !body["vertex"].is_number_integer())
+      throw UsageError("vertex: not given as a vertex index of the result");
+    const int vertex = body["vertex"].get<int>();
+    const std::vector<HoleReport>& holes = result->report.holes;
+    int index = -1;
+    for (int h = 0; h < static_cast<int>(holes.size()); ++h)
+      if (holes[h].filled && vertex >= holes[h].new_vertices.first &&
+          vertex < holes[h].new_vertices.end)
+        index = h;
+    if (index < 0)
+      throw UsageError("vertex " + std::to_string(vertex) +
+                       " is not a new vertex of a patch: only those move");
+    if (body.contains("hole") && body["hole"] != holes[index].loop_id)
+      throw UsageError("vertex " + std::to_string(vertex) + " is of loop " +
+                       std::to_string(holes[index].loop_id) + ", not loop " + body["hole"].dump());
+    if (!editor || editor->hole() != index) {
+      editor.reset();
+      const int loop = holes[index].loop_id;
+      editor = std::make_unique<PatchEditor>(*mesh, *result, index, result->loops.at(loop),
+                                             request.options, name);
+    }
+    editor->grab(vertex);
+    dragging = true;
+    before_drag = {index, {}, holes[index]};
+    before_drag.positions.assign(result->mesh.positions.begin() + holes[index].new_vertices.first,
+                                 result->mesh.positions.begin() + holes[index].new_vertices.end);
+    nlohmann::json reply = patch_buffer(result->mesh, holes[index].new_vertices);
+    reply["hole"] = holes[index].loop_id;
+    reply["vertex"] = vertex;
+    return reply;
+  }
+
+  nlohmann::json move_edit(const nlohmann::json& body) {
+    check_editable();
+    if (!dragging || !editor)
+      throw UsageError("no edit begun: POST /api/edit/begin with a vertex first");
+    Vec3 target;
+    for (int c = 0; c < 3; ++c) {
+      const char* key = c == 0 ? "x" : c == 1 ? "y" : "z";
+      if (!body.contains(key) || !body[key].is_number())
+        throw UsageError(std::string(key) + ": not given as a number");
+      target[c] = body[key].get<double>();
+    }
+    const DragResult moved = editor->drag(target);
+    editor->write(result->mesh);
+    nlohmann::json reply = patch_buffer(result->mesh, editor->vertices());
+    reply["iterations"] = moved.iterations;
+    reply["stop_reason"] = to_string(moved.stop_reason);
+    reply["seconds"] = moved.seconds;
+    return reply;
+  }
+
+  // The hole's figures measured again and the report rebuilt.
+  void remeasure(int index) {
+    editor->measure(result->mesh, result->report.holes[index]);
+    report = report_json(*mesh, *result, request);
+  }
+
+  nlohmann::json end_edit() {
+    check_editable();
+    if (!dragging || !editor) throw UsageError("no edit begun");
+    const DragResult settled = editor->settle();
+    editor->write(result->mesh);
+    editor->release();
+    dragging = false;
+    remeasure(editor->hole());
+    undo.push_back(std::move(before_drag));
+    if (undo.size() > kMaxUndo) undo.erase(undo.begin());
+    ++edits;
+    nlohmann::json reply = patch_buffer(result->mesh, editor->vertices());
+    reply["report"] = report;
+    reply["undo"] = undo.size();
+    reply["edits"] = edits;
+    reply["settle_iterations"] = settled.iterations;
+    return reply;
+  }
+
+  nlohmann::json undo_edit() {
+    check_editable();
+    if (dragging) throw UsageError("an edit is under way: end it first");
+    if (undo.empty()) throw UsageError("nothing to undo");
+    Undo last = std::move(undo.back());
+    undo.pop_back();
+    HoleReport& restored = result->report.holes[last.hole];
+    std::copy(last.positions.begin(), last.positions.end(),
+              result->mesh.positions.begin() + restored.new_vertices.first);
+    restored = last.report;
+    if (editor && editor->hole() == last.hole) editor->set_positions(last.positions);
+    report = report_json(*mesh, *result, request);
+    ++edits;
+    nlohmann::json reply = patch_buffer(result->mesh, restored.new_vertices);
+    reply["hole"] = restored.loop_id;
+    reply["report"] = report;
+    reply["undo"] = undo.size();
+    reply["edits"] = edits;
+    return reply;
   }
 
   void routes();
@@ -328,7 +568,81 @@ void Server::State::routes() {
     reply["job"] = job;
     reply["input_face_count"] = mesh->face_count();
     reply["report"] = report;
+    reply["edits"] = edits;
+    reply["undo"] = undo.size();
+    reply["liepa"] = liepa.has_value();
     send_json(res, reply);
+  });
+  // The edit tool and the obstacles: JSON in, JSON out, Error(Usage) as 400.
+  const auto post = [this](const char* path,
+                           std::function<nlohmann::json(State&, const nlohmann::json&)> handle) {
+    http.Post(path, [this, handle](const httplib::Request& req, httplib::Response& res) {
+      const std::optional<nlohmann::json> body = object_body(req.body);
+      if (!body) return send_json(res, error_json("the request is not a JSON object"), 400);
+      std::lock_guard<std::mutex> lock(mutex);
+      try {
+        send_json(res, handle(*this, *body));
+      } catch (const Error& e) {
+        send_json(res, error_json(e.what()), 400);
+      }
+    });
+  };
+  post("/api/edit/begin", [](State& s, const nlohmann::json& body) { return s.begin_edit(body); });
+  post("/api/edit/move", [](State& s, const nlohmann::json& body) { return s.move_edit(body); });
+  post("/api/edit/end", [](State& s, const nlohmann::json&) { return s.end_edit(); });
+  post("/api/undo", [](State& s, const nlohmann::json&) { return s.undo_edit(); });
+  http.Get("/api/liepa", [this](const httplib::Request&, httplib::Response& res) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!liepa)
+      return send_json(res, error_json("no Liepa fill: fill with compare_liepa set"), 404);
+    nlohmann::json reply = mesh_buffers(liepa->mesh);
+    reply["job"] = job;
+    reply["input_face_count"] = mesh->face_count();
+    reply["report"] = liepa_report;
+    send_json(res, reply);
+  });
+  http.Get("/api/obstacles", [this](const httplib::Request&, httplib::Response& res) {
+    std::lock_guard<std::mutex> lock(mutex);
+    send_json(res, obstacles_reply());
+  });
+  // Body: the obstacles file as the CLI's --obstacles takes it (empty: none).
+  http.Post("/api/obstacles", [this](const httplib::Request& req, httplib::Response& res) {
+    std::vector<Obstacle> parsed;
+    try {
+      const nlohmann::json text = nlohmann::json::parse(req.body, nullptr, false);
+      if (!text.is_discarded() && text.is_object() && text.contains("obstacles") &&
+          text["obstacles"].is_array())
+        for (const nlohmann::json& entry : text["obstacles"])
+          if (entry.is_object() && entry.value("type", "") == "mesh")
+            throw UsageError(
+                "obstacles: a mesh obstacle is given by uploading its file "
+                "(POST /api/obstacle-mesh?name=F)");
+      if (!req.body.empty()) parsed = parse_obstacles(req.body, "obstacles");
+    } catch (const Error& e) {
+      return send_json(res, error_json(e.what()), 400);
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    if (running) return send_json(res, error_json("a fill is running: cancel it first"), 400);
+    obstacles = std::move(parsed);
+    send_json(res, obstacles_reply());
+  });
+  // Body: a mesh file, the obstacle (empty: none).
+  http.Post("/api/obstacle-mesh", [this](const httplib::Request& req, httplib::Response& res) {
+    std::optional<Obstacle> parsed;
+    if (!req.body.empty()) {
+      const std::string file_name = fs::path(req.get_param_value("name")).filename().string();
+      if (file_name.empty()) return send_json(res, error_json("no ?name=FILE given"), 400);
+      try {
+        parsed = foldfill::mesh_obstacle(
+            parse_mesh(req.body, format_from_path(file_name), file_name), file_name);
+      } catch (const Error& e) {
+        return send_json(res, error_json(e.what()), 400);
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    if (running) return send_json(res, error_json("a fill is running: cancel it first"), 400);
+    mesh_obstacle = std::move(parsed);
+    send_json(res, obstacles_reply());
   });
   http.Get("/api/download", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "obj";

@@ -33,7 +33,8 @@ bool is_loopback(const std::string& address);
 // The largest upload taken (bytes); a larger one is refused with 413.
 inline constexpr size_t kMaxUploadBytes = size_t{256} << 20;
 
-// The web app's server: one session (one mesh and its latest fill) at a time.
+// The web app's server: one session (one mesh, its obstacles, its latest fill
+// and the edits of it) at a time.
 // Endpoints (JSON unless said):
 //   GET  /                      the page (and /serve.js, /view.css, /three.js)
 //   GET  /api/mesh              the session's mesh, or {"mesh": null}
@@ -46,6 +47,19 @@ inline constexpr size_t kMaxUploadBytes = size_t{256} << 20;
 //   POST /api/cancel            cancels the running fill
 //   GET  /api/result            the filled mesh's buffers and the report
 //   GET  /api/download?format=  the filled mesh as obj, ply, off or stl
+//   GET  /api/liepa             with "compare_liepa": true in the fill, CGAL's
+//                               Liepa fill of the same holes (buffers, report)
+//   POST /api/edit/begin        {"vertex": V}: a new vertex of a fabric patch
+//                               becomes the handle (PatchEditor, edit.h)
+//   POST /api/edit/move         {"x", "y", "z"}: the handle pulled there, the
+//                               patch minimised; its positions come back
+//                               ({"first", "count", "positions": base64 float32})
+//   POST /api/edit/end          the patch settles and is kept, its report
+//                               measured again (crossings with exact predicates)
+//   POST /api/undo              the patch and report before the last edit
+//   GET  /api/obstacles         the obstacles of the next fills, as triangles
+//   POST /api/obstacles         body: obstacles JSON as --obstacles reads (empty: none)
+//   POST /api/obstacle-mesh?name=F.obj  body: a mesh obstacle's file (empty: none)
 // Errors answer {"error": "one line"}: 400 for a bad request or upload (its
 // message as the CLI gives it, "FILE: problem") or while a fill runs, 403 for
 // a peer not on loopback, 404 for nothing to give, 413 for an upload over the

@@ -23,3 +23,12 @@ in=$work/demo/input.obj
 "$foldfill" render "$in" "$work/default.obj" "$work/dense.obj" -o "$out/density.png" "${view[@]}"
 "$foldfill" render "$in" "$work/default.obj" "$work/liepa.obj" -o "$out/liepa.png" "${view[@]}"
 echo "guide_pictures: wrote $out/{first_fill,lambda,density,liepa}.png"
+
+# The picture of `serve` is the browser test's (tests/browser/serve.test.mjs):
+# the demo filled with a plane obstacle and the Liepa comparison, a patch point
+# dragged with the edit tool.
+if [ -d node_modules/puppeteer-core ] && [ -x /usr/bin/chromium ]; then
+  node tests/browser/serve.test.mjs "$foldfill" "$work/serve" > /dev/null
+  cp "$work/serve/serve-edited.png" "$out/serve.png"
+  echo "guide_pictures: wrote $out/serve.png"
+fi

@@ -2,7 +2,10 @@
 // httplib::Client against a server on a free port, in process.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -254,6 +257,210 @@ TEST(Serve, CancelsALongFill) {
   const json reply = body_of(client.Get("/api/result"));
   EXPECT_EQ(reply["report"]["cancelled"], true) << reply["report"].dump();
   EXPECT_EQ(reply["report"]["holes"][0]["status"], "cancelled");
+}
+
+// The float32 positions of a reply's base64 buffer.
+std::vector<float> floats(const json& base64_text) {
+  const std::string text = base64_text.get<std::string>();
+  std::string bytes;
+  int bits = 0, value = 0;
+  for (char c : text) {
+    int d = -1;
+    if (c >= 'A' && c <= 'Z') d = c - 'A';
+    if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
+    if (c >= '0' && c <= '9') d = c - '0' + 52;
+    if (c == '+') d = 62;
+    if (c == '/') d = 63;
+    if (d < 0) continue;
+    value = (value << 6) | d;
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      bytes.push_back(static_cast<char>((value >> bits) & 0xff));
+    }
+  }
+  std::vector<float> out(bytes.size() / sizeof(float));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(float));
+  return out;
+}
+
+httplib::Result post_json(httplib::Client& client, const char* path, const json& body) {
+  return client.Post(path, body.dump(), "application/json");
+}
+
+// Uploads the sheet and fills its hole; returns the result.
+json filled_sheet(httplib::Client& client, const json& request = json::object()) {
+  EXPECT_EQ(client.Post("/api/mesh?name=sheet.obj", sheet_obj(), "text/plain")->status, 200);
+  const auto started = post_json(client, "/api/fill", request);
+  EXPECT_EQ(started->status, 200) << started->body;
+  const json progress = wait_done(client);
+  EXPECT_TRUE(progress["error"].is_null()) << progress.dump();
+  const auto result = client.Get("/api/result");
+  EXPECT_EQ(result->status, 200);
+  return body_of(result);
+}
+
+TEST(Serve, EditRefusesWhatItCannotDo) {
+  if (!foldfill::cli::serve_available()) GTEST_SKIP() << "serve is not available in this build";
+  Served served;
+  httplib::Client client = served.client();
+  auto answer = post_json(client, "/api/edit/begin", {{"vertex", 0}});
+  ASSERT_TRUE(answer);
+  EXPECT_EQ(answer->status, 400);
+  EXPECT_EQ(body_of(answer)["error"], "no fill yet: fill first, then edit its patches");
+  EXPECT_EQ(post_json(client, "/api/undo", json::object())->status, 400);
+
+  const json result = filled_sheet(client);
+  const int input_vertices = result["vertex_count"].get<int>() -
+                             result["report"]["holes"][0]["patch_vertex_count"].get<int>();
+  // An input vertex, one past the end, not a number: not a patch's vertex.
+  for (const json& vertex :
+       {json(0), json(input_vertices - 1), result["vertex_count"], json("a")}) {
+    answer = post_json(client, "/api/edit/begin", {{"vertex", vertex}});
+    EXPECT_EQ(answer->status, 400) << vertex;
+    EXPECT_TRUE(body_of(answer)["error"].is_string());
+  }
+  answer = post_json(client, "/api/edit/move", {{"x", 0}, {"y", 0}, {"z", 0}});
+  EXPECT_EQ(answer->status, 400);
+  EXPECT_EQ(body_of(answer)["error"], "no edit begun: POST /api/edit/begin with a vertex first");
+  EXPECT_EQ(post_json(client, "/api/edit/end", json::object())->status, 400);
+  EXPECT_EQ(client.Post("/api/edit/begin", "not json", "application/json")->status, 400);
+  answer = post_json(client, "/api/undo", json::object());
+  EXPECT_EQ(answer->status, 400);
+  EXPECT_EQ(body_of(answer)["error"], "nothing to undo");
+}
+
+TEST(Serve, EditDragsThePatchAloneAndUndoRestoresIt) {
+  if (!foldfill::cli::serve_available()) GTEST_SKIP() << "serve is not available in this build";
+  Served served;
+  httplib::Client client = served.client();
+  const json before = filled_sheet(client);
+  const json hole = before["report"]["holes"][0];
+  ASSERT_EQ(hole["filled"], true);
+  ASSERT_EQ(hole["self_intersections"], 0);
+  const int first = hole["new_vertices"][0], end = hole["new_vertices"][1];
+  const std::vector<float> start = floats(before["positions"]);
+  // The handle: the new vertex nearest the patch's centroid.
+  double centre[3] = {0, 0, 0};
+  for (int v = first; v < end; ++v)
+    for (int c = 0; c < 3; ++c) centre[c] += start[3 * v + c] / (end - first);
+  int handle = first;
+  double nearest = 1e300;
+  for (int v = first; v < end; ++v) {
+    double d = 0;
+    for (int c = 0; c < 3; ++c)
+      d += (start[3 * v + c] - centre[c]) * (start[3 * v + c] - centre[c]);
+    if (d < nearest) {
+      nearest = d;
+      handle = v;
+    }
+  }
+  auto answer =
+      post_json(client, "/api/edit/begin", {{"vertex", handle}, {"hole", hole["loop_id"]}});
+  ASSERT_EQ(answer->status, 200) << answer->body;
+  EXPECT_EQ(body_of(answer)["first"], first);
+  EXPECT_EQ(body_of(answer)["count"], end - first);
+  // Pulled up by 0.3 (a third of the hole's radius) in steps, as a pointer does.
+  const double lift = 0.3;
+  const double target[3] = {start[3 * handle], start[3 * handle + 1], start[3 * handle + 2] + lift};
+  json moved;
+  for (int step = 1; step <= 8; ++step) {
+    answer =
+        post_json(client, "/api/edit/move",
+                  {{"x", target[0]}, {"y", target[1]}, {"z", target[2] - lift + lift * step / 8}});
+    ASSERT_EQ(answer->status, 200) << answer->body;
+    moved = body_of(answer);
+  }
+  EXPECT_EQ(moved["first"], first);
+  const std::vector<float> patch = floats(moved["positions"]);
+  ASSERT_EQ(patch.size(), 3u * (end - first));
+  const int h = handle - first;
+  EXPECT_GT(patch[3 * h + 2] - start[3 * handle + 2], 0.5 * lift) << "the handle follows";
+  int moved_vertices = 0;
+  for (int v = 0; v < end - first; ++v)
+    moved_vertices += std::abs(patch[3 * v + 2] - start[3 * (first + v) + 2]) > 1e-3;
+  EXPECT_GT(moved_vertices, 10) << "the patch follows the handle";
+
+  answer = post_json(client, "/api/edit/end", json::object());
+  ASSERT_EQ(answer->status, 200) << answer->body;
+  const json ended = body_of(answer);
+  EXPECT_EQ(ended["undo"], 1);
+  EXPECT_EQ(ended["report"]["holes"][0]["self_intersections"], 0);
+  EXPECT_NE(ended["report"]["holes"][0]["energy"], hole["energy"]);
+
+  const json after = body_of(client.Get("/api/result"));
+  EXPECT_EQ(after["report"], ended["report"]);
+  EXPECT_EQ(after["edits"], 1);
+  const std::vector<float> edited = floats(after["positions"]);
+  ASSERT_EQ(edited.size(), start.size());
+  // No vertex of the input moved, bit for bit.
+  EXPECT_TRUE(std::equal(start.begin(), start.begin() + 3 * first, edited.begin()));
+  // The release keeps the patch as it settled about the handle's last target.
+  const std::vector<float> settled = floats(ended["positions"]);
+  ASSERT_EQ(settled.size(), patch.size());
+  EXPECT_TRUE(std::equal(settled.begin(), settled.end(), edited.begin() + 3 * first));
+  EXPECT_GT(settled[3 * h + 2] - start[3 * handle + 2], 0.5 * lift) << "the handle stays";
+  // The download is the edited mesh.
+  const foldfill::Mesh written = foldfill::parse_mesh(client.Get("/api/download?format=obj")->body,
+                                                      foldfill::MeshFormat::Obj, "d.obj");
+  EXPECT_NEAR(written.positions[handle][2], edited[3 * handle + 2], 1e-5);
+
+  answer = post_json(client, "/api/undo", json::object());
+  ASSERT_EQ(answer->status, 200) << answer->body;
+  EXPECT_EQ(body_of(answer)["undo"], 0);
+  const json undone = body_of(client.Get("/api/result"));
+  EXPECT_EQ(undone["positions"], before["positions"]);
+  EXPECT_EQ(undone["report"], before["report"]);
+  EXPECT_EQ(post_json(client, "/api/undo", json::object())->status, 400);
+}
+
+TEST(Serve, ObstaclesAreParsedShownAndPassedToTheFill) {
+  if (!foldfill::cli::serve_available()) GTEST_SKIP() << "serve is not available in this build";
+  Served served;
+  httplib::Client client = served.client();
+  ASSERT_EQ(client.Post("/api/mesh?name=sheet.obj", sheet_obj(), "text/plain")->status, 200);
+  // A plane below the sheet (z in [-0.25, 0.25]).
+  const std::string text =
+      R"({"obstacles": [{"type": "plane", "point": [0, 0, -1], "normal": [0, 0, 1]}]})";
+  auto answer = client.Post("/api/obstacles", text, "application/json");
+  ASSERT_EQ(answer->status, 200) << answer->body;
+  const json shown = body_of(answer);
+  ASSERT_EQ(shown["obstacles"].size(), 1u);
+  EXPECT_EQ(shown["obstacles"][0]["type"], "plane");
+  EXPECT_GT(shown["obstacles"][0]["face_count"].get<int>(), 0);
+  // Bad ones: the CLI's message, and a mesh obstacle is uploaded instead.
+  answer =
+      client.Post("/api/obstacles", R"({"obstacles": [{"type": "cube"}]})", "application/json");
+  EXPECT_EQ(answer->status, 400);
+  EXPECT_TRUE(body_of(answer)["error"].is_string());
+  answer = client.Post("/api/obstacles", R"({"obstacles": [{"type": "mesh", "file": "a.obj"}]})",
+                       "application/json");
+  EXPECT_EQ(answer->status, 400);
+  // A mesh obstacle by upload: a small closed tetrahedron away from the sheet.
+  const std::string tetrahedron =
+      "v 10 10 10\nv 11 10 10\nv 10 11 10\nv 10 10 11\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  answer = client.Post("/api/obstacle-mesh?name=body.obj", tetrahedron, "text/plain");
+  ASSERT_EQ(answer->status, 200) << answer->body;
+  EXPECT_EQ(body_of(answer)["obstacles"].size(), 2u);
+  EXPECT_EQ(body_of(client.Get("/api/obstacles"))["mesh_obstacle"], true);
+
+  const auto started = post_json(client, "/api/fill", {{"compare_liepa", true}});
+  ASSERT_EQ(started->status, 200) << started->body;
+  const json progress = wait_done(client, 120);
+  ASSERT_TRUE(progress.is_object() && progress["error"].is_null()) << progress.dump();
+  const json result = body_of(client.Get("/api/result"));
+  EXPECT_EQ(result["report"]["options"]["obstacles"], 2);
+  EXPECT_EQ(result["report"]["holes"][0]["self_intersections"], 0);
+  EXPECT_EQ(result["liepa"], true);
+  // The Liepa fill of the same hole, side by side.
+  const json liepa = body_of(client.Get("/api/liepa"));
+  EXPECT_EQ(liepa["report"]["options"]["method"], "liepa");
+  EXPECT_EQ(liepa["report"]["filled_loops"], result["report"]["filled_loops"]);
+  EXPECT_GT(liepa["face_count"].get<int>(), liepa["input_face_count"].get<int>());
+  // Cleared.
+  ASSERT_EQ(client.Post("/api/obstacles", "", "application/json")->status, 200);
+  ASSERT_EQ(client.Post("/api/obstacle-mesh", "", "text/plain")->status, 200);
+  EXPECT_EQ(body_of(client.Get("/api/obstacles"))["obstacles"].size(), 0u);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -109,6 +110,35 @@ struct SolverResult {
 // what the objective throws.
 SolverResult minimize(const Objective& objective, const Eigen::VectorXd& start,
                       const SolverOptions& options = {}, const Budget& budget = {});
+
+// The fast solver's preconditioner of an objective, factored once. Given to
+// minimize(), it stands for the factorisation minimize() otherwise does on
+// each call: for minimisations repeated many times over one objective, each
+// warm-started from the last (the edit tool's drags, edit.h).
+class FactoredPreconditioner {
+ public:
+  // Factors objective.preconditioner() as minimize() would. Throws
+  // Error(Internal) where it cannot be factored.
+  explicit FactoredPreconditioner(const Objective& objective);
+  ~FactoredPreconditioner();
+  FactoredPreconditioner(const FactoredPreconditioner&) = delete;
+  FactoredPreconditioner& operator=(const FactoredPreconditioner&) = delete;
+  Eigen::Index size() const { return size_; }  // the objective's size()
+
+  struct Factor;  // solver.cpp's
+  const Factor& factor() const { return *factor_; }
+
+ private:
+  std::unique_ptr<Factor> factor_;
+  Eigen::Index size_ = 0;
+};
+
+// minimize() with `preconditioner` (of an objective whose preconditioner()
+// is the same matrix; null: factored here) for the fast solver. Throws
+// Error(Internal) for one of another size.
+SolverResult minimize(const Objective& objective, const Eigen::VectorXd& start,
+                      const SolverOptions& options, const Budget& budget,
+                      const FactoredPreconditioner* preconditioner);
 
 // The fabric energy alone as an Objective (no contact, nothing bounds a step).
 class FabricObjective final : public Objective {

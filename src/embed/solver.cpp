@@ -23,12 +23,13 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "embed/coordinate_cholesky.h"
-#include "foldfill/error.h"
 #include "embed/lbfgs_recursion.h"
+#include "foldfill/error.h"
 
 namespace foldfill {
 namespace {
@@ -125,15 +126,23 @@ Eigen::SparseMatrix<double> regularised(Eigen::SparseMatrix<double> p) {
   return p;
 }
 
+std::unique_ptr<PreconditionerFactor> factor_of(const Objective& objective) {
+  return std::make_unique<PreconditionerFactor>(regularised(objective.preconditioner()),
+                                                OrderingEffort::Thorough,
+                                                "solver: the preconditioner could not be factored");
+}
+
 class Lbfgs final : public Stepper {
  public:
-  Lbfgs(const Objective& objective, const SolverOptions& options, const Budget& budget)
+  // `factor`: the objective's preconditioner factored, or null to factor it here.
+  Lbfgs(const Objective& objective, const SolverOptions& options, const Budget& budget,
+        const PreconditionerFactor* factor)
       : objective_(objective),
         budget_(budget),
         max_displacement_(options.max_displacement),
         memory_(std::max(options.lbfgs_memory, 1)),
-        factor_(regularised(objective.preconditioner()), OrderingEffort::Thorough,
-                "solver: the preconditioner could not be factored") {}
+        own_factor_(factor ? nullptr : factor_of(objective)),
+        factor_(factor ? *factor : *own_factor_) {}
 
   Advance advance(Iterate& current) override {
     if (!started_) solve(current.gradient, preconditioned_);
@@ -244,7 +253,8 @@ class Lbfgs final : public Stepper {
   const Budget& budget_;
   double max_displacement_;
   int memory_;
-  PreconditionerFactor factor_;
+  std::unique_ptr<PreconditionerFactor> own_factor_;
+  const PreconditionerFactor& factor_;
   std::deque<CurvaturePair> pairs_;  // oldest first
   double gamma_ =
       1;  // (y . s) / (y . P^-1 y) of the newest pair: P^-1 scaled to the curvature seen
@@ -333,8 +343,25 @@ const char* to_string(StopReason reason) {
   return "converged";
 }
 
+struct FactoredPreconditioner::Factor {
+  std::unique_ptr<PreconditionerFactor> factor;
+};
+
+FactoredPreconditioner::FactoredPreconditioner(const Objective& objective)
+    : factor_(std::make_unique<Factor>(Factor{factor_of(objective)})), size_(objective.size()) {}
+
+FactoredPreconditioner::~FactoredPreconditioner() = default;
+
 SolverResult minimize(const Objective& objective, const VectorXd& start,
                       const SolverOptions& options, const Budget& budget) {
+  return minimize(objective, start, options, budget, nullptr);
+}
+
+SolverResult minimize(const Objective& objective, const VectorXd& start,
+                      const SolverOptions& options, const Budget& budget,
+                      const FactoredPreconditioner* preconditioner) {
+  if (preconditioner && preconditioner->size() != objective.size())
+    throw InternalError("solver: the factored preconditioner is of another size");
   const Budget limited = budget.at_most(options.time_limit_seconds);
   check_inputs(objective, start, options);
   Iterate first;
@@ -349,7 +376,8 @@ SolverResult minimize(const Objective& objective, const VectorXd& start,
     GradientDescent stepper(objective, options.step);
     return run(stepper, first, options, limited);
   }
-  Lbfgs stepper(objective, options, limited);
+  Lbfgs stepper(objective, options, limited,
+                preconditioner ? preconditioner->factor().factor.get() : nullptr);
   return run(stepper, first, options, limited);
 }
 

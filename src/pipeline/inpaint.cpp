@@ -15,6 +15,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "embed/triangle_geometry.h"
 #include "foldfill/box_tree.h"
 #include "foldfill/developability.h"
 #include "foldfill/domain.h"
@@ -25,7 +26,7 @@
 #include "foldfill/multilevel.h"
 #include "foldfill/smooth_fill.h"
 #include "foldfill/topology.h"
-#include "embed/triangle_geometry.h"
+#include "pipeline/patch_scene.h"
 
 namespace foldfill {
 namespace {
@@ -37,10 +38,6 @@ using Clock = std::chrono::steady_clock;
 // stays outside a curved obstacle unless its radius is under a quarter of
 // an edge.
 constexpr double kObstacleClearance = 0.25;
-// How far (in units of the length scale) an obstacle is moved in beyond the
-// depth the strip reaches into it (a mesh obstacle: where the strip lies on
-// it), so that the strip is outside.
-constexpr double kMeshClearance = 0.01;
 // The stopping threshold of the stiff minimisation of minimise_folds_first.
 constexpr double kFoldsFirstTolerance = 1e-4;
 // A patch face with an angle under this (degrees) counts as of zero area.
@@ -164,26 +161,6 @@ void throw_if_cancelled(const FillContext& context, const std::string& where) {
 
 // ---- Reach ------------------------------------------------------------------
 
-// A box, in the mesh's units, that a hole's patch cannot leave: the loop's
-// box grown by one and a half times the radius of a disk of the loop's
-// length (no point of a flat patch is farther from its boundary, and the
-// patch stretches little), plus two edges for the strip. Everything the
-// patch might cross lies in it.
-Box3 reach_box(const BoundaryLoop& loop) {
-  Box3 box{loop.positions.at(0), loop.positions.at(0)};
-  for (const Vec3& p : loop.positions)
-    for (int c = 0; c < 3; ++c) {
-      box.low[c] = std::min(box.low[c], p[c]);
-      box.high[c] = std::max(box.high[c], p[c]);
-    }
-  const double grow = 1.5 * loop.length / (2 * M_PI) + 2 * loop.mean_edge_length;
-  for (int c = 0; c < 3; ++c) {
-    box.low[c] -= grow;
-    box.high[c] += grow;
-  }
-  return box;
-}
-
 bool inside(const Box3& box, const Vec3& p) {
   for (int c = 0; c < 3; ++c)
     if (!(p[c] >= box.low[c] && p[c] <= box.high[c])) return false;
@@ -234,44 +211,6 @@ HolePlan plan_hole(const FillContext& context, const BoundaryLoop& loop, HoleRep
 
 // ---- The scene: what the patch must not cross ------------------------------
 
-// Whether every point of `points` is farther than `gap` from the obstacle.
-bool farther_than(const Obstacle& obstacle, const std::vector<Vec3>& points, double gap) {
-  return std::all_of(points.begin(), points.end(),
-                     [&](const Vec3& p) { return farther_than(obstacle, p, gap); });
-}
-
-// Moves each vertex of `mesh` by `inset` against its normal (the mean of its
-// faces' unit normals, weighted by their angles there).
-void inset_along_normals(Mesh& mesh, double inset) {
-  std::vector<Vec3> normals(mesh.positions.size(), Vec3{0, 0, 0});
-  for (const Tri& f : mesh.faces) {
-    const Vec3& a = mesh.positions[f[0]];
-    const Vec3& b = mesh.positions[f[1]];
-    const Vec3& c = mesh.positions[f[2]];
-    const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-    const double length = std::hypot(n[0], n[1], n[2]);
-    if (!(length > 0)) continue;
-    for (double& x : n) x /= length;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3& p = mesh.positions[f[k]];
-      const Vec3& q = mesh.positions[f[(k + 1) % 3]];
-      const Vec3& r = mesh.positions[f[(k + 2) % 3]];
-      const Vec3 e1{q[0] - p[0], q[1] - p[1], q[2] - p[2]},
-          e2{r[0] - p[0], r[1] - p[1], r[2] - p[2]};
-      const double cosine = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) /
-                            (std::hypot(e1[0], e1[1], e1[2]) * std::hypot(e2[0], e2[1], e2[2]));
-      const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
-      for (int c2 = 0; c2 < 3; ++c2) normals[f[k]][c2] += angle * n[c2];
-    }
-  }
-  for (size_t v = 0; v < mesh.positions.size(); ++v) {
-    const double length = std::hypot(normals[v][0], normals[v][1], normals[v][2]);
-    if (!(length > 0)) continue;
-    for (int c = 0; c < 3; ++c) mesh.positions[v][c] -= inset * normals[v][c] / length;
-  }
-}
-
 // The surroundings of one hole: the faces of the input near it and the
 // patches of the holes filled before it that it may reach.
 struct Surroundings {
@@ -317,26 +256,6 @@ class SceneBuilder {
   std::unordered_map<int, int> index_of_input_;
 };
 
-// The normalised obstacles of a hole, with what the contact sees of them.
-struct SceneObstacles {
-  std::vector<Obstacle> normalised;  // all of them
-  // The spheres, cylinders and planes shrunk by the depth the strip reaches
-  // into them (and a hair), which the contact keeps every patch face out of.
-  std::vector<Obstacle> analytic;
-  double allowance = 0;  // how deep the patch may reach into an obstacle
-};
-
-// `o` (a sphere, cylinder or plane) with its surface moved in by `inset`.
-Obstacle shrunk(Obstacle o, double inset) {
-  if (o.type == Obstacle::Type::Plane) {
-    for (int c = 0; c < 3; ++c) o.center[c] -= inset * o.normal[c];
-  } else {
-    o.radius -= inset;
-    if (o.type == Obstacle::Type::Cylinder) o.height = std::max(0.0, o.height - 2 * inset);
-  }
-  return o;
-}
-
 // The scene of a hole: the input's faces near it but the strip's, the
 // earlier patches it may reach, and a mesh obstacle's faces near the hole;
 // into `obstacles`, the spheres, cylinders and planes the contact sees. Each
@@ -367,60 +286,7 @@ PatchScene make_scene(const FillContext& context, const HolePlan& plan, const Su
     for (const Tri& f : patch->faces) builder.face({index[f[0]], index[f[1]], index[f[2]]});
   }
 
-  const EmbedDomain& domain = plan.domain;
-  const Box3 reach{normalised(around.reach.low, domain), normalised(around.reach.high, domain)};
-  for (const Obstacle& obstacle : context.options.obstacles) {
-    const Obstacle o = normalized(obstacle, domain.origin, domain.length_scale);
-    obstacles.normalised.push_back(o);
-    // How deep the strip reaches into the obstacle: its vertices, and for a
-    // sphere, cylinder or plane its faces (a patch face holds a loop edge,
-    // whose middle a curved obstacle's surface may pass above).
-    double depth = 0;
-    for (const Vec3& p : domain.fixed_positions) depth = std::max(depth, -signed_distance(o, p));
-    if (o.type != Obstacle::Type::Mesh) {
-      for (int f = 0; f < domain.strip_face_count; ++f) {
-        const Tri& t = domain.faces[f];
-        depth = std::max(depth, -triangle_obstacle_distance(o, domain.fixed_positions[t[0]],
-                                                            domain.fixed_positions[t[1]],
-                                                            domain.fixed_positions[t[2]]));
-      }
-    }
-    Mesh triangles;
-    if (o.type == Obstacle::Type::Mesh) {
-      triangles = o.mesh->mesh();
-      // Where the strip rests on the obstacle or a little inside, its
-      // triangles are moved in, each vertex along its normal, by that depth
-      // and a hair, so that the strip lies outside them.
-      if (depth > 0 || !farther_than(o, domain.fixed_positions, kMeshClearance)) {
-        const double inset = depth + kMeshClearance;
-        inset_along_normals(triangles, inset);
-        obstacles.allowance = std::max(obstacles.allowance, inset);
-      }
-    } else {
-      const double inset = depth + kMeshClearance;
-      obstacles.allowance = std::max(obstacles.allowance, inset);
-      if (o.type == Obstacle::Type::Plane || o.radius > inset)
-        obstacles.analytic.push_back(shrunk(o, inset));
-      continue;
-    }
-    std::vector<int> index(triangles.positions.size(), -1);
-    for (const Tri& f : triangles.faces) {
-      Box3 box{triangles.positions[f[0]], triangles.positions[f[0]]};
-      for (int v : f)
-        for (int c = 0; c < 3; ++c) {
-          box.low[c] = std::min(box.low[c], triangles.positions[v][c]);
-          box.high[c] = std::max(box.high[c], triangles.positions[v][c]);
-        }
-      if (!overlap(box, reach)) continue;
-      Tri face;
-      for (int k = 0; k < 3; ++k) {
-        int& i = index[f[k]];
-        if (i < 0) i = builder.normalised_vertex(triangles.positions[f[k]]);
-        face[k] = i;
-      }
-      builder.face(face);
-    }
-  }
+  add_scene_obstacles(plan.domain, context.options.obstacles, around.reach, scene, obstacles);
   return scene;
 }
 

@@ -4,6 +4,11 @@
 // (GET /api/progress) with a cancel button, then the result (GET /api/result)
 // with its report; GET /api/download gives the file. Meshes come as base64
 // binary buffers, as in the `view` page, whose stylesheet it shares.
+// The edit tool drags a point of a patch (POST /api/edit/begin, move, end;
+// POST /api/undo); "compare with Liepa" shows CGAL's fill of the same holes
+// (GET /api/liepa) in a second panel with the same camera; obstacles are set
+// as the CLI's obstacles JSON (POST /api/obstacles) or a mesh file
+// (POST /api/obstacle-mesh) and drawn in both panels.
 import * as THREE from '/three.js';
 
 const BACKGROUND = 0xf4f4f2;
@@ -14,8 +19,10 @@ const SELECTED_COLOUR = 0xff7a00;
 const $ = (id) => document.getElementById(id);
 
 // The page's state, read by the browser tests.
-const state = {mesh: null, result: null, selected: new Set(), useDefault: true, job: 0,
-               running: false, error: null};
+const state = {mesh: null, result: null, liepa: null, selected: new Set(), useDefault: true, job: 0,
+               running: false, error: null, obstacles: [],
+               edit: {on: false, dragging: false, vertex: -1, hole: -1, inFlight: false, target: null,
+                      moves: 0, ends: 0, undos: 0, lastMs: 0}};
 window.foldfillServe = state;
 
 function decodeBase64(text) {
@@ -51,6 +58,17 @@ scene.add(light);
 const camera = new THREE.PerspectiveCamera(35, 1, 0.01, 100);
 const view = {target: new THREE.Vector3(), distance: 1, azimuth: 0.5, elevation: 0.6, radius: 1};
 let surface = null, wire = null, loopLines = null;
+// The Liepa panel: its own renderer and scene, the same camera.
+const canvas2 = $('canvas2');
+const renderer2 = new THREE.WebGLRenderer({canvas: canvas2, antialias: true, preserveDrawingBuffer: true});
+renderer2.setPixelRatio(window.devicePixelRatio || 1);
+renderer2.setClearColor(BACKGROUND);
+const scene2 = new THREE.Scene();
+scene2.add(new THREE.HemisphereLight(0xffffff, 0x606060, 2.2));
+const light2 = new THREE.DirectionalLight(0xffffff, 1.6);
+scene2.add(light2);
+let surface2 = null;
+let obstacleGroups = [];  // one per scene
 
 function holeColour(hole) {
   return new THREE.Color().setHSL((0.07 + Math.max(0, hole) * 0.381966) % 1, 0.8, 0.52);
@@ -59,7 +77,9 @@ function holeColour(hole) {
 // A three.js geometry of one mesh reply (mesh_buffers in app/serve.cpp),
 // faces coloured by their hole when the reply has face_hole.
 function geometryOf(reply) {
-  const positions = new Float32Array(decodeBase64(reply.positions));
+  // Kept on the reply: the edit tool moves the result's vertices in place.
+  const positions = reply.vertexPositions ||
+                    (reply.vertexPositions = new Float32Array(decodeBase64(reply.positions)));
   const index = new Uint32Array(decodeBase64(reply.index));
   const holes = reply.face_hole ? new Int32Array(decodeBase64(reply.face_hole)) : null;
   // Unshared corners, so that each face has its own colour.
@@ -76,7 +96,13 @@ function geometryOf(reply) {
   geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
   geometry.computeVertexNormals();
   geometry.computeBoundingSphere();
-  return {geometry, positions};
+  return {geometry, positions, index};
+}
+
+function surfaceMaterial() {
+  return new THREE.MeshStandardMaterial(
+      {vertexColors: true, side: THREE.DoubleSide, flatShading: true, roughness: 0.85,
+       polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1});
 }
 
 function shownReply() {
@@ -90,10 +116,9 @@ function rebuild() {
   surface = wire = loopLines = null;
   const reply = shownReply();
   if (!reply) return requestRender();
-  const {geometry} = geometryOf(reply);
-  surface = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial(
-      {vertexColors: true, side: THREE.DoubleSide, flatShading: true, roughness: 0.85,
-       polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1}));
+  const {geometry, positions, index} = geometryOf(reply);
+  surface = new THREE.Mesh(geometry, surfaceMaterial());
+  surface.userData = {reply, positions, index};
   scene.add(surface);
   wire = new THREE.LineSegments(new THREE.WireframeGeometry(geometry),
                                 new THREE.LineBasicMaterial({color: 0x333333}));
@@ -191,20 +216,29 @@ function requestRender() {
     renderer.setSize(width, height, false);
     camera.aspect = width / Math.max(height, 1);
     placeCamera();
+    light2.position.copy(camera.position);
     renderer.render(scene, camera);
+    if (!$('stage2').hidden) {
+      renderer2.setSize(canvas2.clientWidth, canvas2.clientHeight, false);
+      renderer2.render(scene2, camera);
+    }
     placeLabels();
+    state.frames = (state.frames || 0) + 1;
   });
 }
 new ResizeObserver(requestRender).observe(canvas);
+new ResizeObserver(requestRender).observe(canvas2);
 
 let drag = null;
 canvas.addEventListener('contextmenu', (e) => e.preventDefault());
 canvas.addEventListener('pointerdown', (e) => {
   canvas.setPointerCapture(e.pointerId);
+  if (state.edit.on && e.button === 0 && !e.shiftKey && beginEdit(e)) return;
   drag = {x: e.clientX, y: e.clientY, startX: e.clientX, startY: e.clientY,
           pan: e.button !== 0 || e.shiftKey};
 });
 canvas.addEventListener('pointermove', (e) => {
+  if (state.edit.dragging) return moveEdit(e);
   if (!drag) return;
   const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
   drag.x = e.clientX;
@@ -223,11 +257,48 @@ canvas.addEventListener('pointermove', (e) => {
   requestRender();
 });
 canvas.addEventListener('pointerup', (e) => {
+  if (state.edit.dragging) return endEdit();
   const click = drag && e.button === 0 &&
                 Math.hypot(e.clientX - drag.startX, e.clientY - drag.startY) < 4;
   drag = null;
   if (click) pickLoop(e);
 });
+// The Liepa panel turns, pans and zooms the same camera.
+let drag2 = null;
+canvas2.addEventListener('contextmenu', (e) => e.preventDefault());
+canvas2.addEventListener('pointerdown', (e) => {
+  canvas2.setPointerCapture(e.pointerId);
+  drag2 = {x: e.clientX, y: e.clientY, pan: e.button !== 0 || e.shiftKey};
+});
+canvas2.addEventListener('pointermove', (e) => {
+  if (!drag2) return;
+  const dx = e.clientX - drag2.x, dy = e.clientY - drag2.y;
+  drag2.x = e.clientX;
+  drag2.y = e.clientY;
+  turnOrPan(dx, dy, drag2.pan);
+});
+canvas2.addEventListener('pointerup', () => { drag2 = null; });
+canvas2.addEventListener('wheel', (e) => {
+  e.preventDefault();
+  view.distance *= Math.exp(e.deltaY * 0.001);
+  requestRender();
+}, {passive: false});
+
+function turnOrPan(dx, dy, pan) {
+  const height = canvas.clientHeight || 1;
+  if (pan) {
+    const scale = 2 * view.distance * Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)) / height;
+    const right = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 0);
+    const up = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 1);
+    view.target.addScaledVector(right, -dx * scale).addScaledVector(up, dy * scale);
+  } else {
+    view.azimuth -= dx * Math.PI / height;
+    view.elevation = THREE.MathUtils.clamp(view.elevation + dy * Math.PI / height,
+                                           -Math.PI / 2 + 1e-3, Math.PI / 2 - 1e-3);
+  }
+  requestRender();
+}
+
 canvas.addEventListener('wheel', (e) => {
   e.preventDefault();
   view.distance *= Math.exp(e.deltaY * 0.001);
@@ -322,6 +393,9 @@ function openMesh(reply) {
   $('show-result').disabled = true;
   $('download').disabled = true;
   $('report').hidden = true;
+  $('edit').disabled = true;
+  $('undo').disabled = true;
+  showLiepa(null);
   $('progress').textContent = reply.warnings.length ? `warnings: ${reply.warnings.join('; ')}` : '';
   setDefaults(reply.defaults);
   rebuild();
@@ -345,7 +419,8 @@ $('file').addEventListener('change', async () => {
 
 function request() {
   const body = {holes: state.useDefault ? 'default' : [...state.selected].sort((a, b) => a - b),
-                method: $('method').value, bending: $('bending').value};
+                method: $('method').value, bending: $('bending').value,
+                compare_liepa: $('compare-liepa').checked};
   for (const key of ['lambda', 'shrink', 'density', 'repulsion']) {
     if ($(key).value !== '') body[key] = Number($(key).value);
   }
@@ -418,14 +493,8 @@ function cell(value) {
   return String(value);
 }
 
-function showResult(result) {
-  state.result = result;
-  const report = result.report;
+function showReport(table, report) {
   const holes = report.holes || [];
-  const filled = holes.filter((h) => h.filled).length;
-  $('progress').textContent = `${report.cancelled ? 'cancelled: ' : 'done: '}${filled} of ` +
-                              `${holes.length} holes filled, ${result.face_count - result.input_face_count} new faces`;
-  const table = $('report-table');
   table.replaceChildren();
   const head = table.insertRow();
   for (const [name] of COLUMNS) {
@@ -442,12 +511,243 @@ function showResult(result) {
       td.textContent = cell(get(hole));
     }
   }
+}
+
+function showResult(result) {
+  state.result = result;
+  state.liepa = null;
+  const report = result.report;
+  const holes = report.holes || [];
+  const filled = holes.filter((h) => h.filled).length;
+  $('progress').textContent = `${report.cancelled ? 'cancelled: ' : 'done: '}${filled} of ` +
+                              `${holes.length} holes filled, ${result.face_count - result.input_face_count} new faces`;
+  showReport($('report-table'), report);
   $('report').hidden = false;
   $('show-result').disabled = false;
   $('show-result').checked = true;
   $('download').disabled = false;
+  $('edit').disabled = false;
+  $('undo').disabled = !result.undo;
   rebuild();
+  showLiepa(null);
+  if (result.liepa) {
+    api('/api/liepa').then(showLiepa).catch((error) => showError(error.message));
+  }
 }
+
+// ---- the Liepa panel ----
+
+function showLiepa(liepa) {
+  state.liepa = liepa;
+  if (surface2) { scene2.remove(surface2); surface2.geometry.dispose(); surface2 = null; }
+  $('stage2').hidden = !liepa;
+  $('liepa-report').hidden = !liepa;
+  if (liepa) {
+    surface2 = new THREE.Mesh(geometryOf(liepa).geometry, surfaceMaterial());
+    scene2.add(surface2);
+    showReport($('liepa-table'), liepa.report);
+  }
+  requestRender();
+}
+
+// ---- obstacles ----
+
+function showObstacles(reply) {
+  for (const group of obstacleGroups) group.parent.remove(group);
+  obstacleGroups = [];
+  state.obstacles = reply.obstacles;
+  const material = new THREE.MeshStandardMaterial({color: 0x4f8fbf, transparent: true, opacity: 0.35,
+                                                   side: THREE.DoubleSide, depthWrite: false});
+  for (const target of [scene, scene2]) {
+    const group = new THREE.Group();
+    for (const obstacle of reply.obstacles) {
+      const positions = new Float32Array(decodeBase64(obstacle.positions));
+      const index = new Uint32Array(decodeBase64(obstacle.index));
+      const geometry = new THREE.BufferGeometry();
+      geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+      geometry.setIndex(new THREE.BufferAttribute(index, 1));
+      geometry.computeVertexNormals();
+      group.add(new THREE.Mesh(geometry, material));
+    }
+    group.renderOrder = 2;
+    target.add(group);
+    obstacleGroups.push(group);
+  }
+  $('clear-obstacle-mesh').disabled = !reply.mesh_obstacle;
+  $('obstacles-status').textContent = reply.obstacles.length
+      ? `${reply.obstacles.length} obstacles: ${reply.obstacles.map((o) => o.type).join(', ')} (for the next fill)`
+      : '';
+  requestRender();
+}
+
+$('set-obstacles').addEventListener('click', async () => {
+  showError(null);
+  try {
+    showObstacles(await api('/api/obstacles', {method: 'POST', body: $('obstacles-json').value.trim()}));
+  } catch (error) {
+    showError(error.message);
+  }
+});
+
+$('obstacle-file').addEventListener('change', async () => {
+  const file = $('obstacle-file').files[0];
+  if (!file) return;
+  showError(null);
+  try {
+    showObstacles(await api(`/api/obstacle-mesh?name=${encodeURIComponent(file.name)}`,
+                            {method: 'POST', body: await file.arrayBuffer()}));
+  } catch (error) {
+    showError(error.message);
+  }
+});
+
+$('clear-obstacle-mesh').addEventListener('click', async () => {
+  $('obstacle-file').value = '';
+  try {
+    showObstacles(await api('/api/obstacle-mesh', {method: 'POST', body: ''}));
+  } catch (error) {
+    showError(error.message);
+  }
+});
+
+// ---- the edit tool ----
+
+const postJson = (path, body) => api(path, {method: 'POST', headers: {'Content-Type': 'application/json'},
+                                            body: JSON.stringify(body)});
+const raycaster = new THREE.Raycaster();
+
+// The new vertex of a patch face under the pointer nearest the point hit,
+// with that point, or null.
+function pickPatchVertex(e) {
+  const reply = state.result;
+  if (!surface || !reply || shownReply() !== reply || !reply.face_hole) return null;
+  const rect = canvas.getBoundingClientRect();
+  const pointer = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1,
+                                    -((e.clientY - rect.top) / rect.height) * 2 + 1);
+  placeCamera();
+  raycaster.setFromCamera(pointer, camera);
+  const hit = raycaster.intersectObject(surface)[0];
+  if (!hit) return null;
+  const face = Math.floor(hit.face.a / 3);  // corners are unshared: 3 per face
+  const holes = reply.faceHoles || (reply.faceHoles = new Int32Array(decodeBase64(reply.face_hole)));
+  if (holes[face] < 0) return null;
+  const {positions, index} = surface.userData;
+  const firstNew = state.mesh.vertex_count;
+  let best = -1, bestDistance = Infinity;
+  for (let k = 0; k < 3; ++k) {
+    const v = index[face * 3 + k];
+    if (v < firstNew) continue;
+    const d = hit.point.distanceToSquared(new THREE.Vector3(positions[v * 3], positions[v * 3 + 1], positions[v * 3 + 2]));
+    if (d < bestDistance) { bestDistance = d; best = v; }
+  }
+  return best < 0 ? null : {vertex: best, hole: holes[face]};
+}
+
+// Writes a patch's positions (an edit reply) into the shown surface.
+function applyPatch(reply) {
+  if (!surface) return;
+  const {positions, index} = surface.userData;
+  positions.set(new Float32Array(decodeBase64(reply.positions)), reply.first * 3);
+  const corner = surface.geometry.attributes.position.array;
+  const end = reply.first + reply.count;
+  for (let i = 0; i < index.length; ++i) {
+    const v = index[i];
+    if (v >= reply.first && v < end) corner.set(positions.subarray(v * 3, v * 3 + 3), i * 3);
+  }
+  surface.geometry.attributes.position.needsUpdate = true;
+  surface.geometry.computeVertexNormals();
+  if (wire && wire.visible) {
+    wire.geometry.dispose();
+    wire.geometry = new THREE.WireframeGeometry(surface.geometry);
+  }
+  requestRender();
+}
+
+function beginEdit(e) {
+  const picked = pickPatchVertex(e);
+  if (!picked) return false;
+  const {positions} = surface.userData;
+  const p = new THREE.Vector3(positions[picked.vertex * 3], positions[picked.vertex * 3 + 1],
+                              positions[picked.vertex * 3 + 2]);
+  const normal = new THREE.Vector3();
+  camera.getWorldDirection(normal);
+  state.edit = {...state.edit, dragging: true, vertex: picked.vertex, hole: picked.hole, target: null,
+                plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, p), began: null};
+  $('edit-status').textContent = `loop ${picked.hole}: vertex ${picked.vertex}`;
+  state.edit.began = postJson('/api/edit/begin', {vertex: picked.vertex, hole: picked.hole})
+      .catch((error) => { state.edit.dragging = false; showError(error.message); });
+  return true;
+}
+
+// The pointer's point on the drag plane; one move request at a time, the
+// latest target sent when the one in flight comes back.
+function moveEdit(e) {
+  const rect = canvas.getBoundingClientRect();
+  const pointer = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1,
+                                    -((e.clientY - rect.top) / rect.height) * 2 + 1);
+  raycaster.setFromCamera(pointer, camera);
+  const target = new THREE.Vector3();
+  if (!raycaster.ray.intersectPlane(state.edit.plane, target)) return;
+  state.edit.target = target;
+  if (!state.edit.inFlight) sendMove();
+}
+
+async function sendMove() {
+  const edit = state.edit;
+  if (!edit.target) return;
+  edit.inFlight = true;
+  await edit.began;
+  while (edit.target && edit.dragging) {
+    const t = edit.target;
+    edit.target = null;
+    const start = performance.now();
+    try {
+      applyPatch(await postJson('/api/edit/move', {x: t.x, y: t.y, z: t.z}));
+      edit.moves += 1;
+      edit.lastMs = performance.now() - start;
+      $('edit-status').textContent = `loop ${edit.hole}: vertex ${edit.vertex}, ${edit.lastMs.toFixed(0)} ms per update`;
+    } catch (error) {
+      showError(error.message);
+      break;
+    }
+  }
+  edit.inFlight = false;
+}
+
+async function endEdit() {
+  const edit = state.edit;
+  edit.dragging = false;
+  await edit.began;
+  while (edit.inFlight) await new Promise((resolve) => setTimeout(resolve, 10));
+  try {
+    const reply = await postJson('/api/edit/end', {});
+    applyPatch(reply);
+    state.result.report = reply.report;
+    showReport($('report-table'), reply.report);
+    $('undo').disabled = reply.undo === 0;
+    edit.ends += 1;
+  } catch (error) {
+    showError(error.message);
+  }
+}
+
+$('edit').addEventListener('change', () => {
+  state.edit.on = $('edit').checked;
+  document.body.classList.toggle('editing', state.edit.on);
+});
+
+$('undo').addEventListener('click', async () => {
+  try {
+    const reply = await postJson('/api/undo', {});
+    applyPatch(reply);
+    state.result.report = reply.report;
+    showReport($('report-table'), reply.report);
+    $('undo').disabled = reply.undo === 0;
+    state.edit.undos += 1;
+  } catch (error) {
+    showError(error.message);
+  }
+});
 
 $('download').addEventListener('click', () => {
   window.location.href = `/api/download?format=${$('format').value}`;
@@ -459,11 +759,19 @@ $('wireframe').addEventListener('change', () => {
   requestRender();
 });
 
-// The mesh the server was started with, if any.
+// The mesh the server was started with, if any, and the obstacles set.
 try {
   const reply = await api('/api/mesh');
   if (reply.mesh === null) setDefaults(reply.defaults); else openMesh(reply);
+  showObstacles(await api('/api/obstacles'));
 } catch (error) {
   showError(error.message);
 }
+// For the browser tests: where a vertex of the shown mesh is on the page.
+state.screenOf = (v) => {
+  const p = surface.userData.positions;
+  const at = toScreen(p[v * 3], p[v * 3 + 1], p[v * 3 + 2]);
+  const rect = canvas.getBoundingClientRect();
+  return at && {x: at.x + rect.left, y: at.y + rect.top};
+};
 state.ready = true;
