@@ -182,8 +182,23 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
   // The pairs that may meet during the step: the candidates' (gather), or,
   // for a step too long for them even when fresh, those of the swept boxes.
   if (!gather(0.0, displacement_.data())) {
+    // Fresh candidates around the step's midpoint: every point of the step
+    // is within half its move of there, and so are the line search's trial
+    // points and the next step's start.
+    for (size_t k = offset; k < points_.size(); ++k) points_[k] += 0.5 * displacement_[k];
+    double largest_move = 0;
+    for (size_t k = offset; k < points_.size(); k += 3)
+      largest_move = std::max(largest_move, displacement_[k] * displacement_[k] +
+                                                displacement_[k + 1] * displacement_[k + 1] +
+                                                displacement_[k + 2] * displacement_[k + 2]);
+    largest_move = std::sqrt(largest_move);
     refresh_candidates();
-    if (!gather(0.0, displacement_.data()))
+    place(x);
+    // Two primitives that meet during the step were at most half their two
+    // moves apart at the midpoint.
+    if (largest_move < options_.thickness + options_.skin)
+      select_candidates(largest_move);
+    else
       broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
   }
   const double bound =
