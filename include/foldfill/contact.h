@@ -28,7 +28,8 @@ struct ContactOptions {
   // Candidate pairs are searched within thickness + skin and kept while no
   // vertex has moved more than skin / 2 (for the barrier), or while twice that
   // move plus twice the step's longest stays within thickness + skin (for the
-  // step bound); normalised.
+  // step bound; a step they do not cover searches them again around its
+  // midpoint); normalised.
   double skin = 0.5;
   CcdOptions ccd;
 };
