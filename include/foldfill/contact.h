@@ -30,7 +30,8 @@ struct ContactOptions {
   // Candidate pairs are searched within thickness + skin and kept while no
   // vertex has moved more than skin / 2 (for the barrier), or while twice that
   // move plus twice the step's longest stays within thickness + skin (for the
-  // step bound); normalised.
+  // step bound; a step they do not cover searches them again around its
+  // midpoint); normalised.
   double skin = 0.5;
   CcdOptions ccd;
 };
@@ -85,8 +86,12 @@ class PatchContact {
   // All collision-mesh positions with the free ones from x.
   const double* place(const Eigen::VectorXd& x) const;
   void refresh_candidates() const;
+  // Fills active_ with the candidates that may come closer than `distance`
+  // while each free vertex moves on from the current points by up to the
+  // length of its `move` (3 per collision vertex; null: none); false, with
+  // active_ untouched, where the candidates need not hold all such pairs.
+  bool gather(double distance, const double* move) const;
   void select_candidates(double distance) const;
-  double drift() const;
 
   // The barrier and the step bound of the patch's faces against the
   // analytic obstacles (added to `value` and to `gradient` when non-null).

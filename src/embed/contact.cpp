@@ -81,17 +81,6 @@ const double* PatchContact::place(const Eigen::VectorXd& x) const {
   return points_.data();
 }
 
-// Largest distance a free vertex has moved since the candidates were found.
-double PatchContact::drift() const {
-  double largest = 0;
-  for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
-    const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
-                 dz = points_[k + 2] - anchor_[k + 2];
-    largest = std::max(largest, dx * dx + dy * dy + dz * dz);
-  }
-  return std::sqrt(largest);
-}
-
 // The candidates within thickness + skin of the current points, their
 // distances there, and those points as the anchor they are valid around:
 // while no free vertex has moved more than `drift` from it, a pair closer
@@ -131,25 +120,43 @@ void PatchContact::refresh_candidates() const {
   has_candidates_ = true;
 }
 
-// The candidates whose anchor distance is below `distance` into active_.
+// The candidates whose anchor distance is at most `distance` into active_.
 void PatchContact::select_candidates(double distance) const {
   active_.point_triangle.clear();
   active_.edge_edge.clear();
   for (size_t k = 0; k < candidates_.point_triangle.size(); ++k)
-    if (point_triangle_distance_[k] < distance)
+    if (point_triangle_distance_[k] <= distance)
       active_.point_triangle.push_back(candidates_.point_triangle[k]);
   for (size_t k = 0; k < candidates_.edge_edge.size(); ++k)
-    if (edge_edge_distance_[k] < distance) active_.edge_edge.push_back(candidates_.edge_edge[k]);
+    if (edge_edge_distance_[k] <= distance) active_.edge_edge.push_back(candidates_.edge_edge[k]);
+}
+
+// A pair that is not among the candidates was at least thickness + skin
+// apart at the anchor, and can since have come closer by at most twice the
+// largest drift of a free vertex from it plus twice the largest move.
+bool PatchContact::gather(double distance, const double* move) const {
+  if (!has_candidates_) return false;
+  double drift = 0, largest_move = 0;
+  for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
+    const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
+                 dz = points_[k + 2] - anchor_[k + 2];
+    drift = std::max(drift, dx * dx + dy * dy + dz * dz);
+    if (move)
+      largest_move = std::max(largest_move, move[k] * move[k] + move[k + 1] * move[k + 1] +
+                                                move[k + 2] * move[k + 2]);
+  }
+  const double closer = 2 * (std::sqrt(drift) + std::sqrt(largest_move));
+  if (!(distance + closer < options_.thickness + options_.skin)) return false;
+  select_candidates(distance + closer);
+  return true;
 }
 
 double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
   place(x);
-  double moved = has_candidates_ ? drift() : 0;
-  if (!has_candidates_ || 2 * moved > options_.skin) {
+  if (!gather(options_.thickness, nullptr)) {
     refresh_candidates();
-    moved = 0;
+    gather(options_.thickness, nullptr);
   }
-  select_candidates(options_.thickness + 2 * moved);
   double* full_gradient = nullptr;
   if (gradient) {
     gradient_.assign(points_.size(), 0.0);
@@ -171,27 +178,30 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
   const size_t offset = 3 * static_cast<size_t>(fixed_count_);
   std::copy(dx.data(), dx.data() + dx.size(),
             displacement_.begin() + static_cast<std::ptrdiff_t>(offset));
-  double largest_move = 0;
-  for (Eigen::Index k = 0; k + 2 < dx.size(); k += 3)
-    largest_move = std::max(largest_move, dx.segment<3>(k).squaredNorm());
-  largest_move = std::sqrt(largest_move);
-  // Two primitives that meet during the step are now closer than their
-  // relative move, at most twice the largest: the candidates hold every such
-  // pair while that and twice the drift stay within their reach. A step too
-  // long for any list is searched along its swept boxes.
-  const double reach = options_.thickness + options_.skin;
-  double bound = 1;
-  if (2 * largest_move > 0.5 * reach) {
-    broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
-  } else {
-    double moved = has_candidates_ ? drift() : 0;
-    if (!has_candidates_ || 2 * largest_move + 2 * moved > reach) {
-      refresh_candidates();
-      moved = 0;
-    }
-    select_candidates(2 * largest_move + 2 * moved);
+  // The pairs that may meet during the step: the candidates' (gather), or,
+  // for a step too long for them even when fresh, those of the swept boxes.
+  if (!gather(0.0, displacement_.data())) {
+    // Fresh candidates around the step's midpoint: every point of the step
+    // is within half its move of there, and so are the line search's trial
+    // points and the next step's start.
+    for (size_t k = offset; k < points_.size(); ++k) points_[k] += 0.5 * displacement_[k];
+    double largest_move = 0;
+    for (size_t k = offset; k < points_.size(); k += 3)
+      largest_move = std::max(largest_move, displacement_[k] * displacement_[k] +
+                                                displacement_[k + 1] * displacement_[k + 1] +
+                                                displacement_[k + 2] * displacement_[k + 2]);
+    largest_move = std::sqrt(largest_move);
+    refresh_candidates();
+    place(x);
+    // Two primitives that meet during the step were at most half their two
+    // moves apart at the midpoint.
+    if (largest_move < options_.thickness + options_.skin)
+      select_candidates(largest_move);
+    else
+      broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
   }
-  bound = collision_step_bound(mesh(), points_.data(), displacement_.data(), active_, options_.ccd);
+  const double bound =
+      collision_step_bound(mesh(), points_.data(), displacement_.data(), active_, options_.ccd);
   return obstacle_step_bound(bound);
 }
 
