@@ -146,6 +146,25 @@ TEST(MeshObstacle, AnOpenMeshHasItsFrontOutside) {
   EXPECT_EQ(outward_normal(sheet, {0.2, 0.2, -1}), (Vec3{0, 0, 1}));
 }
 
+TEST(MeshObstacle, BesideTheRimOfAnOpenMeshIsOutside) {
+  // Behind the square but beside it: its nearest point is on the rim, so the
+  // point is beside the surface, not under it.
+  Mesh square;
+  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  square.faces = {{0, 1, 2}, {0, 2, 3}};
+  const Obstacle sheet = mesh_obstacle(square, "square.obj");
+  EXPECT_NEAR(signed_distance(sheet, {1.5, 0.5, -0.5}), std::sqrt(0.5), 1e-15);  // edge
+  EXPECT_NEAR(signed_distance(sheet, {2, 2, -1}), std::sqrt(3.0), 1e-15);        // corner
+  EXPECT_GT(signed_distance(sheet, {3, 0.5, -5}), 0);
+  // One triangle far above a sheet puts nothing inside.
+  Mesh stray;
+  stray.positions = {{10, 10, 10}, {11, 10, 10}, {10, 11, 10}};
+  stray.faces = {{0, 1, 2}};
+  const Obstacle triangle = mesh_obstacle(stray, "stray.obj");
+  EXPECT_GT(signed_distance(triangle, {0, 0, 0}), 0);
+  EXPECT_LT(signed_distance(triangle, {10.2, 10.2, 9}), 0);  // right under it
+}
+
 TEST(MeshObstacle, NormalisedMovesAndScalesTheMesh) {
   const Obstacle box = mesh_obstacle(box_mesh({0, 0, 0}, {1, 1, 1}), "box.obj");
   const Vec3 origin{1, 2, 3};
@@ -315,6 +334,33 @@ TEST(MeshObstacle, AFillDrapedOverABoxCornerStaysOutside) {
   const Obstacle box = mesh_obstacle(box_mesh({-0.5, -0.5, -1}, {0.5, 0.5, 0}), "box.obj");
   EXPECT_GT(inside_without_obstacles(sheet, box), 0);
   expect_patch_outside(fill_over(sheet, {box}), sheet, box);
+}
+
+// A stray open triangle far from the cloth changes nothing: the fill is
+// the one without obstacles, in the same time.
+TEST(MeshObstacle, AStrayOpenTriangleFarAwayChangesNothing) {
+  const Mesh sheet = sheet_over(21, 0.05, 0.01, on_box, 0, 0, 0.25);
+  Mesh stray;
+  stray.positions = {{10, 10, 10}, {11, 10, 10}, {10, 11, 10}};
+  stray.faces = {{0, 1, 2}};
+  const FillResult with = fill_over(sheet, {mesh_obstacle(stray, "stray.obj")});
+  const FillResult without = fill_over(sheet, {});
+  ASSERT_TRUE(with.report.holes.at(0).filled) << with.report.holes.at(0).reason;
+  EXPECT_EQ(with.mesh.positions, without.mesh.positions);
+  EXPECT_EQ(with.report.holes[0].crossings.total(), 0);
+}
+
+// An obstacle that holds the whole cloth (misplaced, or turned inside out)
+// is not where the cloth is: the hole is left open, and the reason says so.
+TEST(MeshObstacle, AnObstacleThatHoldsTheClothIsRefusedByName) {
+  const Mesh sheet = sheet_over(21, 0.05, 0.01, on_box, 0, 0, 0.25);
+  const Obstacle around = mesh_obstacle(box_mesh({-5, -5, -5}, {5, 5, 5}), "room.obj");
+  const FillResult result = fill_over(sheet, {around});
+  const HoleReport& hole = result.report.holes.at(0);
+  EXPECT_FALSE(hole.filled);
+  EXPECT_NE(hole.reason.find("deep inside obstacle 1 (room.obj)"), std::string::npos)
+      << hole.reason;
+  EXPECT_EQ(result.mesh.positions, sheet.positions);
 }
 
 TEST(MeshObstacle, AFillAgainstAMeshObstacleScalesWithTheMesh) {

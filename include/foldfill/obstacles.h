@@ -20,12 +20,15 @@ namespace foldfill {
 //
 // Inside and outside: a closed mesh (every edge has two faces) bounds a
 // solid, its inside, whatever the orientation of its faces (they are
-// oriented to bound it). An open mesh has no inside: the side its face
-// normals point to (faces counter-clockwise seen from the front) is taken as
-// outside, the other as inside, judged at the nearest point of the surface
-// (with the angle-weighted normal where that is an edge or a corner), so
-// that a surface open at a few places (a scanned body) acts as closed away
-// from them; a point behind an open sheet is pushed to its front, however far.
+// oriented to bound it). An open mesh has no inside of its own: the side its
+// face normals point to (faces counter-clockwise seen from the front) is
+// taken as outside, the other as inside, judged at the nearest point of the
+// surface (with the angle-weighted normal where that is an edge or a
+// corner), so that a surface open at a few places (a scanned body) acts as
+// closed away from them. A point whose nearest point is on the rim of an open
+// mesh (a boundary edge or vertex) is outside: it lies beside the surface,
+// not behind it, so a point behind an open sheet is inside only within the
+// sheet's footprint, and one stray triangle cannot put half of space inside.
 // The mesh must not intersect itself. Distances are exact up to rounding (the
 // nearest point through CGAL's AABB tree); which side a point within 1e-7 of
 // the mesh's bounding-box diagonal lies on is decided by exact predicates

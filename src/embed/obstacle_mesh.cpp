@@ -17,10 +17,10 @@
 #include <unordered_map>
 #include <vector>
 
+#include "embed/triangle_geometry.h"
 #include "foldfill/error.h"
 #include "foldfill/obstacles.h"
 #include "foldfill/vec3.h"
-#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -66,6 +66,7 @@ struct Nearest {
   int face;
   Vec3 pseudo_normal;  // of the face, the edge or the corner, not unit
   double distance;
+  bool on_rim = false;  // the nearest point is on the boundary of an open mesh
 };
 
 }  // namespace
@@ -77,6 +78,8 @@ struct ObstacleMesh::Search {
   std::vector<Vec3> face_normals;                        // unit (0 for a degenerate face)
   std::vector<Vec3> corner_normals;                      // angle-weighted sums of the face normals
   std::unordered_map<std::uint64_t, Vec3> edge_normals;  // sums of the faces' normals
+  std::unordered_map<std::uint64_t, int> edge_faces;     // faces per edge: 1 on the rim
+  std::vector<char> rim_vertex;                          // on a boundary edge
   std::optional<Tree> tree;
   std::optional<Side> side;  // closed meshes only
   bool closed = false;
@@ -122,8 +125,14 @@ ObstacleMesh::Search::Search(const Mesh& mesh, const std::string& source) {
       corner_normals[t[k]] = add_scaled(corner_normals[t[k]], n, angle);
       Vec3& edge = edge_normals[edge_key(t[k], t[(k + 1) % 3])];
       edge = add_scaled(edge, n, 1);
+      ++edge_faces[edge_key(t[k], t[(k + 1) % 3])];
     }
   }
+  rim_vertex.assign(positions.size(), 0);
+  for (const Tri& t : faces)
+    for (int k = 0; k < 3; ++k)
+      if (edge_faces.at(edge_key(t[k], t[(k + 1) % 3])) == 1)
+        rim_vertex[t[k]] = rim_vertex[t[(k + 1) % 3]] = 1;
   low.fill(HUGE_VAL);
   high.fill(-HUGE_VAL);
   for (const Vec3& p : positions)
@@ -164,14 +173,21 @@ Nearest ObstacleMesh::Search::nearest(const Vec3& p) const {
     }
   }
   if (small == 1) {  // on the edge opposite corner last_small
-    n.pseudo_normal = edge_normals.at(edge_key(t[(last_small + 1) % 3], t[(last_small + 2) % 3]));
+    const std::uint64_t key = edge_key(t[(last_small + 1) % 3], t[(last_small + 2) % 3]);
+    n.pseudo_normal = edge_normals.at(key);
+    n.on_rim = edge_faces.at(key) == 1;
   } else if (small >= 2) {  // at corner last_large
     n.pseudo_normal = corner_normals[t[last_large]];
+    n.on_rim = rim_vertex[t[last_large]] != 0;
   }
   return n;
 }
 
 double ObstacleMesh::Search::signed_distance(const Vec3& p, const Nearest& n) const {
+  // An open mesh has an inside only behind it: a point whose nearest point is
+  // on its rim lies beside the surface, not under it (else one far-off
+  // triangle would put half of space inside).
+  if (!closed && n.on_rim) return n.distance;
   if (n.distance > kExactSideWithin * diagonal) {
     return dot(sub(p, n.point), n.pseudo_normal) < 0 ? -n.distance : n.distance;
   }

@@ -175,7 +175,7 @@ PatchEditor::PatchEditor(const Mesh& input, const FillResult& output, int hole,
     scene.faces.push_back(face);
   }
   SceneObstacles obstacles;
-  add_scene_obstacles(domain, options.obstacles, reach, scene, obstacles);
+  add_scene_obstacles(where, domain, options.obstacles, reach, scene, obstacles);
   parts.contact =
       std::make_unique<PatchContact>(domain, scene, options.contact, obstacles.analytic);
 

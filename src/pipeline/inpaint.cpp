@@ -262,7 +262,7 @@ class SceneBuilder {
 // obstacle is moved in as deep as the strip already reaches into it (the
 // cloth may rest on or a hair inside an obstacle), and a hair more.
 PatchScene make_scene(const FillContext& context, const HolePlan& plan, const Surroundings& around,
-                      SceneObstacles& obstacles) {
+                      const std::string& where, SceneObstacles& obstacles) {
   PatchScene scene;
   SceneBuilder builder(plan, scene);
   const Mesh& mesh = context.mesh;
@@ -286,7 +286,8 @@ PatchScene make_scene(const FillContext& context, const HolePlan& plan, const Su
     for (const Tri& f : patch->faces) builder.face({index[f[0]], index[f[1]], index[f[2]]});
   }
 
-  add_scene_obstacles(plan.domain, context.options.obstacles, around.reach, scene, obstacles);
+  add_scene_obstacles(where, plan.domain, context.options.obstacles, around.reach, scene,
+                      obstacles);
   return scene;
 }
 
@@ -613,7 +614,7 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
     return !context.cancelled.load(std::memory_order_relaxed);
   };
   SceneObstacles obstacles;
-  const PatchScene scene = make_scene(context, plan, around, obstacles);
+  const PatchScene scene = make_scene(context, plan, around, where, obstacles);
   report.obstacle_allowance = obstacles.allowance;
   const FabricEnergy energy(domain, energy_options);
   const PatchContact contact(domain, scene, options.contact, obstacles.analytic);

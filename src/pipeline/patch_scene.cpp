@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "foldfill/collision.h"
+#include "foldfill/error.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -75,7 +77,7 @@ Box3 reach_box(const BoundaryLoop& loop) {
   return box;
 }
 
-void add_scene_obstacles(const EmbedDomain& domain,
+void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
                          const std::vector<Obstacle>& obstacles_in_mesh_units,
                          const Box3& reach_box, PatchScene& scene, SceneObstacles& obstacles) {
   const double inverse = 1 / domain.length_scale;  // as the fill normalises
@@ -84,6 +86,13 @@ void add_scene_obstacles(const EmbedDomain& domain,
                 (p[2] - domain.origin[2]) * inverse};
   };
   const Box3 reach{normalised(reach_box.low), normalised(reach_box.high)};
+  // The hole's width (normalised: its loop's length over pi), and at least a
+  // few edges: deeper inside an obstacle than this, the strip is not resting on it.
+  double perimeter = 0;
+  for (int k = 0; k < domain.loop_size; ++k)
+    perimeter +=
+        distance(domain.fixed_positions[k], domain.fixed_positions[(k + 1) % domain.loop_size]);
+  const double deepest = std::max(perimeter / M_PI, kMostEdgesInside);
   for (const Obstacle& obstacle : obstacles_in_mesh_units) {
     const Obstacle o = normalized(obstacle, domain.origin, domain.length_scale);
     obstacles.normalised.push_back(o);
@@ -99,6 +108,15 @@ void add_scene_obstacles(const EmbedDomain& domain,
                                                             domain.fixed_positions[t[1]],
                                                             domain.fixed_positions[t[2]]));
       }
+    }
+    if (depth > deepest) {
+      const double mesh_units = depth * domain.length_scale;
+      std::string name = "obstacle " + std::to_string(obstacles.normalised.size());
+      name += o.type == Obstacle::Type::Mesh ? " (" + o.mesh->source() + ")" : "";
+      throw UsageError(where + ": the hole's surroundings lie " + std::to_string(mesh_units) +
+                       " deep inside " + name +
+                       ", more than the hole is wide: is the obstacle placed, scaled and "
+                       "oriented as the input?");
     }
     Mesh triangles;
     if (o.type == Obstacle::Type::Mesh) {

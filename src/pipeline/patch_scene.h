@@ -3,6 +3,7 @@
 // the domain's normalised units. Private to the pipeline layer.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "foldfill/contact.h"
@@ -17,6 +18,9 @@ namespace foldfill {
 // depth the strip reaches into it (a mesh obstacle: where the strip lies on
 // it), so that the strip is outside.
 constexpr double kMeshClearance = 0.01;
+// The strip may lie inside an obstacle by the hole's width or this many edges,
+// whichever is more (scan noise, a garment pressed into a body).
+constexpr double kMostEdgesInside = 4;
 
 // A box, in the mesh's units, that a hole's patch cannot leave: the loop's
 // box grown by one and a half times the radius of a disk of the loop's
@@ -39,8 +43,11 @@ struct SceneObstacles {
 // the strip already reaches into them (the cloth may rest on or a hair inside
 // an obstacle) and a hair more, into obstacles.analytic; a mesh obstacle's
 // faces within `reach_box` (mesh units), moved in likewise where the strip
-// rests on it, appended to `scene`.
-void add_scene_obstacles(const EmbedDomain& domain,
+// rests on it, appended to `scene`. Throws UsageError naming `where` when the
+// strip lies deeper inside an obstacle than the hole is wide (and more than
+// a few edges): such an obstacle is not where the cloth is (misplaced,
+// scaled or turned inside out), and no fill could keep out of it.
+void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
                          const std::vector<Obstacle>& obstacles_in_mesh_units,
                          const Box3& reach_box, PatchScene& scene, SceneObstacles& obstacles);
 
