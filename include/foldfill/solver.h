@@ -135,7 +135,7 @@ class FactoredPreconditioner {
 
 // minimize() with `preconditioner` (of an objective whose preconditioner()
 // is the same matrix; null: factored here) for the fast solver. Throws
-// Error(Internal) for one of another size.
+// InternalError for one of another size.
 SolverResult minimize(const Objective& objective, const Eigen::VectorXd& start,
                       const SolverOptions& options, const Budget& budget,
                       const FactoredPreconditioner* preconditioner);
