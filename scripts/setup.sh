@@ -12,7 +12,7 @@ packages=(g++ cmake make libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev libboo
           libcpp-httplib-dev                                     # the server of `serve`
           pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module and its tests
           parallel                                               # the batch recipe's test
-          blender xvfb)                                          # the Blender add-on's tests
+          blender xvfb xauth)                                    # the Blender add-on's tests
 # Node.js and npm from Debian, unless a node and an npm are there already
 # (another distribution's nodejs package may bring npm itself).
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
