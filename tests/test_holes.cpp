@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "foldfill/error.h"
+#include "foldfill/examples.h"
 #include "foldfill/holes.h"
 #include "foldfill/io.h"
 #include "foldfill/test_surfaces.h"
@@ -667,4 +668,29 @@ TEST(Selection, FiltersBySizeAndDiameterOnTopOfTheMode) {
 }
 
 }  // namespace
+// A loop turns by the same angle at any unit: the corner angles are computed
+// from edges scaled by a power of two where their products would underflow
+// or overflow, so a mesh scaled by 2^-1000 or 2^1000 has the same loops, of
+// the same kinds.
+TEST(Holes, TurningIsTheSameAtAnyScale) {
+  FoldedSheetOptions options;
+  options.edge_length = 0.2;
+  const Mesh mesh = cut_disk_hole(make_folded_sheet(options), {2, 1.5}, 0.6).cut.mesh;
+  Mesh tiny = mesh, huge = mesh;
+  for (Vec3& p : tiny.positions)
+    for (double& x : p) x = std::ldexp(x, -1000);
+  for (Vec3& p : huge.positions)
+    for (double& x : p) x = std::ldexp(x, 1000);
+  const auto loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 2u);
+  for (const Mesh* scaled : {&tiny, &huge}) {
+    const auto same = find_boundary_loops(*scaled);
+    ASSERT_EQ(same.size(), loops.size());
+    for (size_t k = 0; k < loops.size(); ++k) {
+      EXPECT_DOUBLE_EQ(same[k].turning, loops[k].turning) << k;
+      EXPECT_EQ(same[k].kind, loops[k].kind) << k;
+    }
+  }
+}
+
 }  // namespace foldfill

@@ -363,6 +363,21 @@ TEST(MeshObstacle, AnObstacleThatHoldsTheClothIsRefusedByName) {
   EXPECT_EQ(result.mesh.positions, sheet.positions);
 }
 
+// An obstacle 1e300 away cannot be computed with (its squares overflow): it
+// is refused by name rather than crashing the exact predicates.
+TEST(MeshObstacle, AnObstacleTooFarToComputeWithIsRefusedByName) {
+  const Mesh sheet = sheet_over(21, 0.05, 0.01, on_box, 0, 0, 0.25);
+  Mesh far;
+  far.positions = {{1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300}};
+  far.faces = {{0, 1, 2}};
+  const FillResult result = fill_over(sheet, {mesh_obstacle(far, "far.obj")});
+  const HoleReport& hole = result.report.holes.at(0);
+  EXPECT_FALSE(hole.filled);
+  EXPECT_NE(hole.reason.find("obstacle 1 (far.obj) reaches farther than 1e80 hole lengths"),
+            std::string::npos)
+      << hole.reason;
+}
+
 TEST(MeshObstacle, AFillAgainstAMeshObstacleScalesWithTheMesh) {
   const Mesh sheet = sheet_over(21, 0.05, 0.01, on_sphere, 0, 0, 0.25);
   const Mesh sphere = sphere_mesh({0, 0, 0}, kRadius, 16);

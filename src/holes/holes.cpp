@@ -264,9 +264,19 @@ std::string format_point(const Vec3& p) {
          format_number(p[2], 6) + ")";
 }
 
-// The angle at `p` between the directions to `a` and `b`, in [0, pi].
+// The angle at `p` between the directions to `a` and `b`, in [0, pi]. Edges
+// so short or long that their products would underflow or overflow are
+// scaled by a power of two first (exactly), so that the angle is the same at
+// any unit.
 double corner_angle(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+  Vec3 u{a[0] - p[0], a[1] - p[1], a[2] - p[2]}, w{b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+  const double largest = std::max({std::abs(u[0]), std::abs(u[1]), std::abs(u[2]), std::abs(w[0]),
+                                   std::abs(w[1]), std::abs(w[2])});
+  if (largest > 0 && std::isfinite(largest) && (largest < 1e-100 || largest > 1e100)) {
+    const int exponent = -std::ilogb(largest);
+    for (double& x : u) x = std::ldexp(x, exponent);
+    for (double& x : w) x = std::ldexp(x, exponent);
+  }
   const Vec3 cross{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
   return std::atan2(std::hypot(cross[0], cross[1], cross[2]),
                     u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);

@@ -94,6 +94,21 @@ void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
         distance(domain.fixed_positions[k], domain.fixed_positions[(k + 1) % domain.loop_size]);
   const double deepest = std::max(perimeter / M_PI, kMostEdgesInside);
   for (const Obstacle& obstacle : obstacles_in_mesh_units) {
+    // How far the obstacle reaches from the hole, in hole lengths: beyond
+    // kFarthestObstacle the geometry's constructions overflow.
+    double farthest = norm(sub(obstacle.center, domain.origin)) + obstacle.radius + obstacle.height;
+    if (obstacle.type == Obstacle::Type::Mesh) {
+      farthest = 0;
+      for (const Vec3& p : obstacle.mesh->mesh().positions)
+        farthest = std::max(farthest, norm(sub(p, domain.origin)));
+    }
+    if (!(farthest * inverse < kFarthestObstacle)) {
+      std::string name = "obstacle " + std::to_string(obstacles.normalised.size() + 1);
+      if (obstacle.type == Obstacle::Type::Mesh) name += " (" + obstacle.mesh->source() + ")";
+      throw UsageError(where + ": " + name +
+                       " reaches farther than 1e80 hole lengths from the hole: is it in the "
+                       "input's units and place?");
+    }
     const Obstacle o = normalized(obstacle, domain.origin, domain.length_scale);
     obstacles.normalised.push_back(o);
     // How deep the strip reaches into the obstacle: its vertices, and for a

@@ -21,6 +21,10 @@ constexpr double kMeshClearance = 0.01;
 // The strip may lie inside an obstacle by the hole's width or this many edges,
 // whichever is more (scan noise, a garment pressed into a body).
 constexpr double kMostEdgesInside = 4;
+// An obstacle that reaches farther from a hole than this many hole lengths is
+// refused: the squares and products of its normalised coordinates would
+// overflow in the geometry's constructions.
+constexpr double kFarthestObstacle = 1e80;
 
 // A box, in the mesh's units, that a hole's patch cannot leave: the loop's
 // box grown by one and a half times the radius of a disk of the loop's
