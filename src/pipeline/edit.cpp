@@ -267,22 +267,13 @@ void PatchEditor::set_positions(const std::vector<Vec3>& positions) {
 
 void PatchEditor::measure(const Mesh& output, HoleReport& report) const {
   const Parts& parts = *parts_;
-  const EmbedDomain& domain = parts.domain;
   const FabricEnergy& energy = *parts.energy;
   const std::vector<Vec3> positions = energy.positions(x_);
-  report.energy_final = energy.evaluate(x_);
-  std::vector<int> free(domain.free_count());
-  std::iota(free.begin(), free.end(), domain.fixed_count);
-  const CurvatureStats curvature = gaussian_curvature_stats(positions, domain.faces, free);
-  report.gaussian_mean_abs_final = curvature.mean_abs;
-  report.gaussian_variance_final = curvature.variance;
-  std::vector<std::array<int, 2>> edges;
-  std::vector<double> rest;
-  for (const FabricEnergy::Spring& s : energy.springs()) {
-    edges.push_back({s.i, s.j});
-    rest.push_back(s.rest_length);
-  }
-  report.edge_length_rms_rel_final = rms_relative_edge_error(positions, edges, rest);
+  const PatchState state = measure_patch(energy, positions);
+  report.energy_final = state.energy;
+  report.gaussian_mean_abs_final = state.curvature.mean_abs;
+  report.gaussian_variance_final = state.curvature.variance;
+  report.edge_length_rms_rel_final = state.edge_length_rms_rel;
   const std::vector<Tri> faces(output.faces.begin() + faces_.first,
                                output.faces.begin() + faces_.end);
   report.patch_area = total_area(output.positions, faces);

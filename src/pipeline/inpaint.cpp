@@ -57,34 +57,6 @@ struct HolePatch {
   HoleReport report;
 };
 
-std::vector<int> free_vertices(const EmbedDomain& domain) {
-  std::vector<int> vertices(domain.free_count());
-  std::iota(vertices.begin(), vertices.end(), domain.fixed_count);
-  return vertices;
-}
-
-// The quality figures of one state of the patch (normalised positions).
-struct PatchState {
-  EnergyTerms energy;
-  CurvatureStats curvature;
-  double edge_length_rms_rel = 0;
-};
-
-PatchState measure(const FabricEnergy& energy, const std::vector<Vec3>& positions) {
-  const EmbedDomain& domain = energy.domain();
-  PatchState state;
-  state.energy = energy.evaluate(energy.variables(positions));
-  state.curvature = gaussian_curvature_stats(positions, domain.faces, free_vertices(domain));
-  std::vector<std::array<int, 2>> edges;
-  std::vector<double> rest;
-  for (const FabricEnergy::Spring& s : energy.springs()) {
-    edges.push_back({s.i, s.j});
-    rest.push_back(s.rest_length);
-  }
-  state.edge_length_rms_rel = rms_relative_edge_error(positions, edges, rest);
-  return state;
-}
-
 std::vector<Tri> patch_faces(const EmbedDomain& domain) {
   return {domain.faces.begin() + domain.strip_face_count, domain.faces.end()};
 }
@@ -647,8 +619,8 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   report.warning = patch_warning(report, where);
 
   // Measure.
-  const PatchState after_start = measure(energy, initial.positions);
-  const PatchState final_state = measure(energy, final_positions);
+  const PatchState after_start = measure_patch(energy, initial.positions);
+  const PatchState final_state = measure_patch(energy, final_positions);
   report.energy_after_arap = after_start.energy;
   report.energy_final = final_state.energy;
   report.gaussian_mean_abs_after_arap = after_start.curvature.mean_abs;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "foldfill/collision.h"
 #include "foldfill/error.h"
@@ -172,6 +173,23 @@ void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
       scene.faces.push_back(face);
     }
   }
+}
+
+PatchState measure_patch(const FabricEnergy& energy, const std::vector<Vec3>& positions) {
+  const EmbedDomain& domain = energy.domain();
+  PatchState state;
+  state.energy = energy.evaluate(energy.variables(positions));
+  std::vector<int> free(domain.free_count());
+  std::iota(free.begin(), free.end(), domain.fixed_count);
+  state.curvature = gaussian_curvature_stats(positions, domain.faces, free);
+  std::vector<std::array<int, 2>> edges;
+  std::vector<double> rest;
+  for (const FabricEnergy::Spring& s : energy.springs()) {
+    edges.push_back({s.i, s.j});
+    rest.push_back(s.rest_length);
+  }
+  state.edge_length_rms_rel = rms_relative_edge_error(positions, edges, rest);
+  return state;
 }
 
 }  // namespace foldfill

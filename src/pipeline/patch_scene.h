@@ -8,8 +8,10 @@
 
 #include "foldfill/contact.h"
 #include "foldfill/domain.h"
+#include "foldfill/energy.h"
 #include "foldfill/holes.h"
 #include "foldfill/mesh.h"
+#include "foldfill/metrics.h"
 #include "foldfill/obstacles.h"
 
 namespace foldfill {
@@ -54,5 +56,14 @@ struct SceneObstacles {
 void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
                          const std::vector<Obstacle>& obstacles_in_mesh_units,
                          const Box3& reach_box, PatchScene& scene, SceneObstacles& obstacles);
+
+// The quality figures of one state of a patch (normalised positions), as the
+// fill reports them and the editor measures them again.
+struct PatchState {
+  EnergyTerms energy;
+  CurvatureStats curvature;
+  double edge_length_rms_rel = 0;
+};
+PatchState measure_patch(const FabricEnergy& energy, const std::vector<Vec3>& positions);
 
 }  // namespace foldfill
