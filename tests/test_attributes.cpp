@@ -22,6 +22,7 @@
 #include "foldfill/io.h"
 #include "foldfill/liepa.h"
 #include "foldfill/report.h"
+#include "support/cli_run.h"
 #include "test_geometry.h"
 #include "test_support.h"
 
@@ -34,35 +35,14 @@ bool operator==(const ObjStatement& a, const ObjStatement& b) {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::CliRun;
+using testing::run_cli;
+using testing::slurp;
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 void write_bytes(const fs::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
-}
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run_cli(const std::string& arguments, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = std::string(FOLDFILL_CLI) + " " + arguments + " >" + out.string() +
-                              " 2>" + err.string() + " </dev/null";
-  const int status = std::system(command.c_str());
-  CliRun run;
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.out = slurp(out);
-  run.err = slurp(err);
-  return run;
 }
 
 int line_count(const std::string& text) {

@@ -24,36 +24,16 @@
 #include "foldfill/io.h"
 #include "foldfill/render.h"
 #include "foldfill/report.h"
+#include "support/cli_run.h"
 #include "test_support.h"
 
 namespace foldfill {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CliRun run_cli(const std::string& arguments, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = std::string(FOLDFILL_CLI) + " " + arguments + " >" + out.string() +
-                              " 2>" + err.string() + " </dev/null";
-  const int status = std::system(command.c_str());
-  CliRun run;
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.out = slurp(out);
-  run.err = slurp(err);
-  return run;
-}
+using testing::CliRun;
+using testing::run_cli;
+using testing::slurp;
 
 // Runs the CLI like run_cli and sends it `signo` after `delay`.
 CliRun run_cli_interrupted(const std::string& arguments, const fs::path& dir, int signo,

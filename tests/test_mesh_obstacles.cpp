@@ -39,6 +39,14 @@ Mesh box_mesh(const Vec3& low, const Vec3& high, bool inwards = false) {
 }
 
 // The exact signed distance to the box [0, 1]^3.
+// One triangle, counter-clockwise a, b, c: an open obstacle mesh.
+Mesh one_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  Mesh mesh;
+  mesh.positions = {a, b, c};
+  mesh.faces = {{0, 1, 2}};
+  return mesh;
+}
+
 double box_distance(const Vec3& p) {
   double outside = 0, inside = -HUGE_VAL;
   for (int c = 0; c < 3; ++c) {
@@ -157,10 +165,8 @@ TEST(MeshObstacle, BesideTheRimOfAnOpenMeshIsOutside) {
   EXPECT_NEAR(signed_distance(sheet, {2, 2, -1}), std::sqrt(3.0), 1e-15);        // corner
   EXPECT_GT(signed_distance(sheet, {3, 0.5, -5}), 0);
   // One triangle far above a sheet puts nothing inside.
-  Mesh stray;
-  stray.positions = {{10, 10, 10}, {11, 10, 10}, {10, 11, 10}};
-  stray.faces = {{0, 1, 2}};
-  const Obstacle triangle = mesh_obstacle(stray, "stray.obj");
+  const Obstacle triangle =
+      mesh_obstacle(one_triangle({10, 10, 10}, {11, 10, 10}, {10, 11, 10}), "stray.obj");
   EXPECT_GT(signed_distance(triangle, {0, 0, 0}), 0);
   EXPECT_LT(signed_distance(triangle, {10.2, 10.2, 9}), 0);  // right under it
 }
@@ -340,9 +346,7 @@ TEST(MeshObstacle, AFillDrapedOverABoxCornerStaysOutside) {
 // the one without obstacles, in the same time.
 TEST(MeshObstacle, AStrayOpenTriangleFarAwayChangesNothing) {
   const Mesh sheet = sheet_over(21, 0.05, 0.01, on_box, 0, 0, 0.25);
-  Mesh stray;
-  stray.positions = {{10, 10, 10}, {11, 10, 10}, {10, 11, 10}};
-  stray.faces = {{0, 1, 2}};
+  const Mesh stray = one_triangle({10, 10, 10}, {11, 10, 10}, {10, 11, 10});
   const FillResult with = fill_over(sheet, {mesh_obstacle(stray, "stray.obj")});
   const FillResult without = fill_over(sheet, {});
   ASSERT_TRUE(with.report.holes.at(0).filled) << with.report.holes.at(0).reason;
@@ -367,9 +371,7 @@ TEST(MeshObstacle, AnObstacleThatHoldsTheClothIsRefusedByName) {
 // is refused by name rather than crashing the exact predicates.
 TEST(MeshObstacle, AnObstacleTooFarToComputeWithIsRefusedByName) {
   const Mesh sheet = sheet_over(21, 0.05, 0.01, on_box, 0, 0, 0.25);
-  Mesh far;
-  far.positions = {{1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300}};
-  far.faces = {{0, 1, 2}};
+  const Mesh far = one_triangle({1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300});
   const FillResult result = fill_over(sheet, {mesh_obstacle(far, "far.obj")});
   const HoleReport& hole = result.report.holes.at(0);
   EXPECT_FALSE(hole.filled);
