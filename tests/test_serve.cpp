@@ -263,7 +263,8 @@ TEST(Serve, CancelsALongFill) {
 std::vector<float> floats(const json& base64_text) {
   const std::string text = base64_text.get<std::string>();
   std::string bytes;
-  int bits = 0, value = 0;
+  int bits = 0;
+  unsigned value = 0;  // the bits not yet taken, at most 14
   for (char c : text) {
     int d = -1;
     if (c >= 'A' && c <= 'Z') d = c - 'A';
@@ -272,7 +273,7 @@ std::vector<float> floats(const json& base64_text) {
     if (c == '+') d = 62;
     if (c == '/') d = 63;
     if (d < 0) continue;
-    value = (value << 6) | d;
+    value = ((value << 6) | static_cast<unsigned>(d)) & 0xffffu;
     bits += 6;
     if (bits >= 8) {
       bits -= 8;
