@@ -33,6 +33,19 @@ struct EmbedDomain {
   int free_count() const { return vertex_count() - fixed_count; }
 };
 
+// A point in mesh units in the domain's normalised coordinates,
+// (p - origin) / length_scale, and a normalised point back in mesh units.
+inline Vec3 normalised(const Vec3& p, const EmbedDomain& domain) {
+  const double inverse = 1 / domain.length_scale;
+  return {(p[0] - domain.origin[0]) * inverse, (p[1] - domain.origin[1]) * inverse,
+          (p[2] - domain.origin[2]) * inverse};
+}
+inline Vec3 in_mesh_units(const Vec3& x, const EmbedDomain& domain) {
+  return {domain.origin[0] + domain.length_scale * x[0],
+          domain.origin[1] + domain.length_scale * x[1],
+          domain.origin[2] + domain.length_scale * x[2]};
+}
+
 // Glues `patch` (whose boundary vertices are the loop, in loop order) to the
 // flattened strip and normalises: the input of the 3D embedding (paper
 // section 3.3). Preconditions: `flat` is flatten_strip(strip) (or the

@@ -54,10 +54,7 @@ EmbedDomain make_embed_domain(const Strip& strip, const Flattening& flat, const 
   const double inverse_scale = 1 / domain.length_scale;
 
   domain.fixed_positions.reserve(strip.positions.size());
-  for (const Vec3& p : strip.positions)
-    domain.fixed_positions.push_back({(p[0] - origin[0]) * inverse_scale,
-                                      (p[1] - origin[1]) * inverse_scale,
-                                      (p[2] - origin[2]) * inverse_scale});
+  for (const Vec3& p : strip.positions) domain.fixed_positions.push_back(normalised(p, domain));
 
   // Strip vertices keep the flattening's uv; the patch's interior vertices
   // follow (its boundary vertices are the loop's, already there).

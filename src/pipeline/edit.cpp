@@ -91,17 +91,6 @@ struct PatchEditor::Parts {
   EditOptions edit;
   SolverOptions solver;
   double flat_area = 0;
-
-  Vec3 normalised(const Vec3& p) const {
-    const double inverse = 1 / domain.length_scale;
-    return {(p[0] - domain.origin[0]) * inverse, (p[1] - domain.origin[1]) * inverse,
-            (p[2] - domain.origin[2]) * inverse};
-  }
-  Vec3 in_mesh_units(const Vec3& x) const {
-    return {domain.origin[0] + domain.length_scale * x[0],
-            domain.origin[1] + domain.length_scale * x[1],
-            domain.origin[2] + domain.length_scale * x[2]};
-  }
 };
 
 PatchEditor::PatchEditor(const Mesh& input, const FillResult& output, int hole,
@@ -155,7 +144,7 @@ PatchEditor::PatchEditor(const Mesh& input, const FillResult& output, int hole,
   // The scene: every face of the output near the hole but the strip's and
   // the patch's (other holes' patches included), and the obstacles.
   const Box3 reach = reach_box(loop);
-  parts.reach = {parts.normalised(reach.low), parts.normalised(reach.high)};
+  parts.reach = {normalised(reach.low, parts.domain), normalised(reach.high, parts.domain)};
   PatchScene scene;
   std::unordered_map<int, int> index;  // output vertex -> domain / scene index
   for (int k = 0; k < domain.fixed_count; ++k) index[strip.to_input[k]] = k;
@@ -169,7 +158,7 @@ PatchEditor::PatchEditor(const Mesh& input, const FillResult& output, int hole,
       const int v = output.mesh.faces[f][k];
       const auto [it, added] =
           index.emplace(v, domain.fixed_count + static_cast<int>(scene.positions.size()));
-      if (added) scene.positions.push_back(parts.normalised(output.mesh.positions[v]));
+      if (added) scene.positions.push_back(normalised(output.mesh.positions[v], parts.domain));
       face[k] = it->second;
     }
     scene.faces.push_back(face);
@@ -205,7 +194,7 @@ void PatchEditor::grab(int vertex) {
 DragResult PatchEditor::drag(const Vec3& target) {
   if (handle_ < 0) throw UsageError(parts_->source + ": no vertex grabbed");
   const Parts& parts = *parts_;
-  Vec3 goal = parts.normalised(target);
+  Vec3 goal = normalised(target, parts.domain);
   for (int c = 0; c < 3; ++c) {
     if (!std::isfinite(goal[c]))
       throw UsageError(parts.source + ": the target is not a finite point");
@@ -248,7 +237,7 @@ std::vector<Vec3> PatchEditor::positions() const {
   std::vector<Vec3> out;
   out.reserve(vertices_.size());
   for (int v = parts_->domain.fixed_count; v < parts_->domain.vertex_count(); ++v)
-    out.push_back(parts_->in_mesh_units(all[v]));
+    out.push_back(in_mesh_units(all[v], parts_->domain));
   return out;
 }
 
@@ -261,7 +250,7 @@ void PatchEditor::set_positions(const std::vector<Vec3>& positions) {
   if (static_cast<int>(positions.size()) != vertices_.size())
     throw InternalError("PatchEditor::set_positions: wrong vertex count");
   std::vector<Vec3> all = parts_->domain.fixed_positions;
-  for (const Vec3& p : positions) all.push_back(parts_->normalised(p));
+  for (const Vec3& p : positions) all.push_back(normalised(p, parts_->domain));
   x_ = parts_->energy->variables(all);
 }
 

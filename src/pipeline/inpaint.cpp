@@ -95,18 +95,6 @@ Mesh flat_mesh(const std::vector<Vec2>& uv, const std::vector<Tri>& faces) {
   return mesh;
 }
 
-Vec3 normalised(const Vec3& p, const EmbedDomain& domain) {
-  const double inverse = 1 / domain.length_scale;
-  return {(p[0] - domain.origin[0]) * inverse, (p[1] - domain.origin[1]) * inverse,
-          (p[2] - domain.origin[2]) * inverse};
-}
-
-Vec3 in_mesh_units(const Vec3& x, const EmbedDomain& domain) {
-  return {domain.origin[0] + domain.length_scale * x[0],
-          domain.origin[1] + domain.length_scale * x[1],
-          domain.origin[2] + domain.length_scale * x[2]};
-}
-
 // What every hole of one fill shares: the mesh, its vertex-face incidence,
 // the options, and the flag that cancels the whole fill.
 struct FillContext {

@@ -81,20 +81,16 @@ Box3 reach_box(const BoundaryLoop& loop) {
 void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
                          const std::vector<Obstacle>& obstacles_in_mesh_units,
                          const Box3& reach_box, PatchScene& scene, SceneObstacles& obstacles) {
-  const double inverse = 1 / domain.length_scale;  // as the fill normalises
-  const auto normalised = [&](const Vec3& p) {
-    return Vec3{(p[0] - domain.origin[0]) * inverse, (p[1] - domain.origin[1]) * inverse,
-                (p[2] - domain.origin[2]) * inverse};
-  };
-  const Box3 reach{normalised(reach_box.low), normalised(reach_box.high)};
-  // The hole's width (normalised: its loop's length over pi), and at least a
-  // few edges: deeper inside an obstacle than this, the strip is not resting on it.
-  double perimeter = 0;
-  for (int k = 0; k < domain.loop_size; ++k)
-    perimeter +=
-        distance(domain.fixed_positions[k], domain.fixed_positions[(k + 1) % domain.loop_size]);
-  const double deepest = std::max(perimeter / M_PI, kMostEdgesInside);
+  const Box3 reach{normalised(reach_box.low, domain), normalised(reach_box.high, domain)};
+  // The hole's width (normalised: its loop's length, loop_size edges of
+  // length_scale, over pi), and at least a few edges: deeper inside an
+  // obstacle than this, the strip is not resting on it.
+  const double deepest = std::max(domain.loop_size / M_PI, kMostEdgesInside);
   for (const Obstacle& obstacle : obstacles_in_mesh_units) {
+    // "obstacle K", with its file for a mesh, as the messages name it.
+    const std::string name =
+        "obstacle " + std::to_string(obstacles.normalised.size() + 1) +
+        (obstacle.type == Obstacle::Type::Mesh ? " (" + obstacle.mesh->source() + ")" : "");
     // How far the obstacle reaches from the hole, in hole lengths: beyond
     // kFarthestObstacle the geometry's constructions overflow.
     double farthest = norm(sub(obstacle.center, domain.origin)) + obstacle.radius + obstacle.height;
@@ -103,9 +99,7 @@ void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
       for (const Vec3& p : obstacle.mesh->mesh().positions)
         farthest = std::max(farthest, norm(sub(p, domain.origin)));
     }
-    if (!(farthest * inverse < kFarthestObstacle)) {
-      std::string name = "obstacle " + std::to_string(obstacles.normalised.size() + 1);
-      if (obstacle.type == Obstacle::Type::Mesh) name += " (" + obstacle.mesh->source() + ")";
+    if (!(farthest / domain.length_scale < kFarthestObstacle)) {
       throw UsageError(where + ": " + name +
                        " reaches farther than 1e80 hole lengths from the hole: is it in the "
                        "input's units and place?");
@@ -126,11 +120,8 @@ void add_scene_obstacles(const std::string& where, const EmbedDomain& domain,
       }
     }
     if (depth > deepest) {
-      const double mesh_units = depth * domain.length_scale;
-      std::string name = "obstacle " + std::to_string(obstacles.normalised.size());
-      name += o.type == Obstacle::Type::Mesh ? " (" + o.mesh->source() + ")" : "";
-      throw UsageError(where + ": the hole's surroundings lie " + std::to_string(mesh_units) +
-                       " deep inside " + name +
+      throw UsageError(where + ": the hole's surroundings lie " +
+                       std::to_string(depth * domain.length_scale) + " deep inside " + name +
                        ", more than the hole is wide: is the obstacle placed, scaled and "
                        "oriented as the input?");
     }

@@ -243,18 +243,7 @@ canvas.addEventListener('pointermove', (e) => {
   const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
   drag.x = e.clientX;
   drag.y = e.clientY;
-  const height = canvas.clientHeight || 1;
-  if (drag.pan) {
-    const scale = 2 * view.distance * Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)) / height;
-    const right = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 0);
-    const up = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 1);
-    view.target.addScaledVector(right, -dx * scale).addScaledVector(up, dy * scale);
-  } else {
-    view.azimuth -= dx * Math.PI / height;
-    view.elevation = THREE.MathUtils.clamp(view.elevation + dy * Math.PI / height,
-                                           -Math.PI / 2 + 1e-3, Math.PI / 2 - 1e-3);
-  }
-  requestRender();
+  turnOrPan(dx, dy, drag.pan);
 });
 canvas.addEventListener('pointerup', (e) => {
   if (state.edit.dragging) return endEdit();
@@ -278,11 +267,6 @@ canvas2.addEventListener('pointermove', (e) => {
   turnOrPan(dx, dy, drag2.pan);
 });
 canvas2.addEventListener('pointerup', () => { drag2 = null; });
-canvas2.addEventListener('wheel', (e) => {
-  e.preventDefault();
-  view.distance *= Math.exp(e.deltaY * 0.001);
-  requestRender();
-}, {passive: false});
 
 function turnOrPan(dx, dy, pan) {
   const height = canvas.clientHeight || 1;
@@ -299,11 +283,14 @@ function turnOrPan(dx, dy, pan) {
   requestRender();
 }
 
-canvas.addEventListener('wheel', (e) => {
+// The wheel zooms the one camera, from either panel.
+function zoom(e) {
   e.preventDefault();
   view.distance *= Math.exp(e.deltaY * 0.001);
   requestRender();
-}, {passive: false});
+}
+canvas.addEventListener('wheel', zoom, {passive: false});
+canvas2.addEventListener('wheel', zoom, {passive: false});
 
 // A click on the canvas picks the loop with a vertex or edge midpoint
 // nearest on screen, within 12 pixels.
