@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -11,6 +12,7 @@
 #include "foldfill/holes.h"
 #include "foldfill/inpaint.h"
 #include "foldfill/metrics.h"
+#include "foldfill/vec3.h"
 #include "test_geometry.h"
 
 namespace foldfill {
@@ -524,6 +526,50 @@ TEST(Inpaint, TwoHolesMeetingAtACornerAreBothFilled) {
   EXPECT_TRUE(after[0].split_at.empty());
   EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, grid.face_count()),
             0);
+}
+
+// A flat sheet with a hole and, as another part of the same mesh, a closed
+// spike whose tip pokes up through the hole: every taut surface spanning the
+// loop passes through the spike, so the start is untangled (untangle.h) and
+// the fill goes over the tip, crossing nothing; the same at 1000 times the size.
+Mesh sheet_over_a_spike(double scale) {
+  std::vector<Vec2> profile;
+  for (int k = 0; k <= 40; ++k) profile.push_back({0.1 * k, 0});
+  const CutMesh sheet = cut_disk_hole(make_profile_sheet(profile, 4, 0.1), {2, 2}, 0.5);
+  Mesh mesh = sheet.cut.mesh;
+  const int first = mesh.vertex_count();
+  const double r = 0.15;
+  mesh.positions.insert(mesh.positions.end(), {{2, 2, 0.3},
+                                               {2 - r, 2 - r, -1},
+                                               {2 + r, 2 - r, -1},
+                                               {2 + r, 2 + r, -1},
+                                               {2 - r, 2 + r, -1}});
+  for (int k = 0; k < 4; ++k) mesh.faces.push_back({first, first + 1 + k, first + 1 + (k + 1) % 4});
+  mesh.faces.push_back({first + 1, first + 3, first + 2});
+  mesh.faces.push_back({first + 1, first + 4, first + 3});
+  for (Vec3& p : mesh.positions) p = scaled(p, scale);
+  return mesh;
+}
+
+TEST(Inpaint, ASpikeThroughTheHoleIsGoneOverFromAnUntangledStart) {
+  for (double scale : {1.0, 1000.0}) {
+    SCOPED_TRACE("scale " + std::to_string(scale));
+    const Mesh mesh = sheet_over_a_spike(scale);
+    const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+    ASSERT_EQ(loops.size(), 2u);
+    const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
+    const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, without_fallback());
+    const HoleReport& report = result.report.holes.at(0);
+    ASSERT_TRUE(report.filled) << report.reason;
+    EXPECT_EQ(report.start, StartKind::Untangled);
+    EXPECT_EQ(report.crossings.total(), 0);
+    EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, mesh.face_count()),
+              0);
+    double top = -1e9;
+    for (size_t v = mesh.positions.size(); v < result.mesh.positions.size(); ++v)
+      top = std::max(top, result.mesh.positions[v][2]);
+    EXPECT_GT(top, 0.3 * scale);  // over the tip
+  }
 }
 
 }  // namespace

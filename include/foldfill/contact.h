@@ -81,6 +81,9 @@ class PatchContact {
 
   const ContactOptions& options() const { return options_; }
   const CollisionMesh& mesh() const { return broad_phase_.mesh(); }
+  // The patch's faces in mesh().faces: [first_patch_face(), end_patch_face()).
+  int first_patch_face() const { return first_patch_face_; }
+  int end_patch_face() const { return end_patch_face_; }
 
  private:
   // All collision-mesh positions with the free ones from x.

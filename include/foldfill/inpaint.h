@@ -18,6 +18,7 @@
 #include "foldfill/obstacles.h"
 #include "foldfill/solver.h"
 #include "foldfill/triangulate.h"
+#include "foldfill/untangle.h"
 
 namespace foldfill {
 
@@ -76,6 +77,9 @@ struct FillOptions {
   // hole instead of ARAP (see multilevel.h); `arap` then places the coarsest
   // level. Gradient descent always starts from ARAP, as in the paper.
   MultilevelOptions multilevel;
+  // Where the ARAP start and the membrane both cross something: how the ARAP
+  // start is untangled (untangle.h) into one that does not.
+  UntangleOptions untangle;
   // With the fast solver, a patch (or its coarsest level) whose bending
   // weight is below this is first minimised with this weight, then with its
   // own from there: the large folds form first (0: never).
@@ -111,12 +115,15 @@ enum class StartKind {
   // Part of the way from the membrane (membrane_embed) to the ARAP start:
   // the ARAP start crossed something, the membrane did not.
   TowardsMembrane,
+  // The ARAP start and the membrane crossed something: the ARAP start
+  // untangled (pipeline/untangle.h: its crossing curves shrunk until none is left).
+  Untangled,
   // No start that crosses nothing was found: the patch was minimised without
   // the contact's guarantee (its crossings are in the report).
   Unguarded,
 };
 
-// "arap", "coarse_levels", "towards_membrane", "unguarded".
+// "arap", "coarse_levels", "towards_membrane", "untangled", "unguarded".
 const char* to_string(StartKind start);
 
 // What became of a hole chosen for filling.

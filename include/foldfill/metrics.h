@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "foldfill/mesh.h"
@@ -29,6 +30,14 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
 // tests of pairs that are not counted.
 int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                              int counted_from = 0);
+
+// The intersecting pairs of faces (by the rules of count_self_intersections)
+// with at least one face of index in [counted_from, counted_to), that one
+// first; degenerate faces are left out. The order is the box tree's, the same
+// for the same input.
+std::vector<std::pair<int, int>> intersecting_face_pairs(const std::vector<Vec3>& positions,
+                                                         const std::vector<Tri>& faces,
+                                                         int counted_from, int counted_to);
 
 // The intersecting pairs of faces with at least one face in `subset` (by the
 // rules of count_self_intersections; a degenerate face of `subset` counts

@@ -26,6 +26,7 @@
 #include "foldfill/multilevel.h"
 #include "foldfill/smooth_fill.h"
 #include "foldfill/topology.h"
+#include "foldfill/untangle.h"
 #include "pipeline/patch_scene.h"
 
 namespace foldfill {
@@ -391,6 +392,19 @@ std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vect
   return std::nullopt;
 }
 
+// `positions` (cleared of the obstacles) untangled (untangle.h) and cleared
+// again, when that crosses nothing; nothing otherwise.
+std::optional<std::vector<Vec3>> untangled(const Level& level, const std::vector<Vec3>& positions,
+                                           const UntangleOptions& options, const Budget& budget) {
+  const std::optional<Eigen::VectorXd> x =
+      untangle(level.energy, level.contact, level.energy.variables(positions), options, budget);
+  if (!x) return std::nullopt;
+  std::vector<Vec3> result = level.energy.positions(*x);
+  clear_obstacles(level.domain, level.obstacles, kObstacleClearance, result);
+  if (!crosses_nothing(level.domain, level.contact, result, level.energy)) return std::nullopt;
+  return result;
+}
+
 // ---- The minimisation ----------------------------------------------------------
 
 SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
@@ -500,6 +514,11 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     return start;
   }
   clear_obstacles(plan.domain, obstacles.normalised, kObstacleClearance, arap);
+  if (std::optional<std::vector<Vec3>> clean = untangled(fine, arap, options.untangle, budget)) {
+    start.positions = std::move(*clean);
+    start.kind = StartKind::Untangled;
+    return start;
+  }
   start.positions = std::move(arap);
   start.kind = StartKind::Unguarded;
   return start;
@@ -523,7 +542,8 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
     warning += (warning.empty() ? "" : "; ") +
                std::string(
                    "no start that crosses nothing was found (the ARAP start and the "
-                   "membrane both cross something): minimised without the guarantee");
+                   "membrane both cross something, and untangling did not clear them): "
+                   "minimised without the guarantee");
   return warning.empty() ? warning : where + ": " + warning;
 }
 
@@ -536,7 +556,7 @@ struct NoCleanStart : FillFailedError {
   explicit NoCleanStart(const std::string& where)
       : FillFailedError(where +
                         ": no start that crosses nothing was found (the ARAP start and the "
-                        "membrane both cross something)") {}
+                        "membrane both cross something, and untangling did not clear them)") {}
 };
 
 HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
@@ -1014,6 +1034,8 @@ const char* to_string(StartKind start) {
       return "coarse_levels";
     case StartKind::TowardsMembrane:
       return "towards_membrane";
+    case StartKind::Untangled:
+      return "untangled";
     case StartKind::Unguarded:
       return "unguarded";
   }

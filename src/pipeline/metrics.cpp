@@ -15,11 +15,11 @@
 #include <limits>
 #include <utility>
 
+#include "embed/triangle_geometry.h"
 #include "foldfill/box_tree.h"
 #include "foldfill/error.h"
 #include "foldfill/topology.h"
 #include "foldfill/vec3.h"
-#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -93,12 +93,15 @@ struct FaceBox {
   bool counted;
 };
 
-// The boxes of the nondegenerate faces, and how many counted faces (index >=
-// counted_from) are degenerate: collinear or with a non-finite corner.
+// The boxes of the nondegenerate faces, and how many counted faces (index in
+// [counted_from, counted_to)) are degenerate: collinear or with a non-finite
+// corner.
 std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
-                                int counted_from, int& degenerate_counted) {
+                                int counted_from, int& degenerate_counted,
+                                int counted_to = std::numeric_limits<int>::max()) {
   const int face_count = static_cast<int>(faces.size());
   counted_from = std::clamp(counted_from, 0, face_count);
+  counted_to = std::clamp(counted_to, counted_from, face_count);
   degenerate_counted = 0;
   std::vector<FaceBox> boxes;
   boxes.reserve(faces.size());
@@ -107,10 +110,10 @@ std::vector<FaceBox> face_boxes(const std::vector<Vec3>& positions, const std::v
                &r = positions[faces[f][2]];
     if (!is_finite(p) || !is_finite(q) || !is_finite(r) ||
         CGAL::collinear(point(p), point(q), point(r))) {
-      degenerate_counted += f >= counted_from;
+      degenerate_counted += f >= counted_from && f < counted_to;
       continue;
     }
-    FaceBox box{{}, f, f >= counted_from};
+    FaceBox box{{}, f, f >= counted_from && f < counted_to};
     for (int c = 0; c < 3; ++c) {
       box.box.low[c] = std::min({p[c], q[c], r[c]});
       box.box.high[c] = std::max({p[c], q[c], r[c]});
@@ -261,6 +264,20 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
   return count;
 }
 
+std::vector<std::pair<int, int>> intersecting_face_pairs(const std::vector<Vec3>& positions,
+                                                         const std::vector<Tri>& faces,
+                                                         int counted_from, int counted_to) {
+  int degenerate = 0;
+  const std::vector<FaceBox> boxes =
+      face_boxes(positions, faces, counted_from, degenerate, counted_to);
+  std::vector<std::pair<int, int>> pairs;
+  for_each_overlapping_pair(boxes, [&](int f, int g) {
+    if (faces_intersect(positions, faces[f], faces[g])) pairs.emplace_back(f, g);
+    return true;
+  });
+  return pairs;
+}
+
 bool passes_through_itself(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                            int counted_from) {
   int degenerate = 0;
@@ -326,8 +343,8 @@ std::vector<double> dihedral_angles(const std::vector<Vec3>& positions,
       }
     }
     if (count != 2) {
-      throw UsageError("dihedral angle: edge " + std::to_string(a) + "-" +
-                                        std::to_string(b) + " is not shared by two faces");
+      throw UsageError("dihedral angle: edge " + std::to_string(a) + "-" + std::to_string(b) +
+                       " is not shared by two faces");
     }
     angles.push_back(normal_angle(positions, faces[shared[0]], faces[shared[1]]));
   }

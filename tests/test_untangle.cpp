@@ -1,0 +1,161 @@
+// Untangling a start that crosses something (untangle.h): the crossing
+// curves' length and its gradient against finite differences, and patches
+// pushed out of layers and spikes they were placed through until, by the
+// exact test, nothing crosses.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "foldfill/arap.h"
+#include "foldfill/contact.h"
+#include "foldfill/untangle.h"
+#include "foldfill/vec3.h"
+#include "lattice_domain.h"
+
+namespace foldfill {
+namespace {
+
+EnergyOptions weights() {
+  EnergyOptions options;
+  options.lambda = 2e-4;
+  return options;
+}
+
+// A flat square layer over the domain's strip (one unit beyond it) at height z.
+PatchScene layer_at(const EmbedDomain& domain, double z) {
+  double low[2] = {1e9, 1e9}, high[2] = {-1e9, -1e9};
+  for (const Vec3& p : domain.fixed_positions)
+    for (int c = 0; c < 2; ++c) {
+      low[c] = std::min(low[c], p[c] - 1);
+      high[c] = std::max(high[c], p[c] + 1);
+    }
+  PatchScene scene;
+  const int n = 20, first = domain.fixed_count;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      scene.positions.push_back(
+          {low[0] + (high[0] - low[0]) * i / n, low[1] + (high[1] - low[1]) * j / n, z});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = first + j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      scene.faces.push_back({a, b, c});
+      scene.faces.push_back({a, c, d});
+    }
+  return scene;
+}
+
+// A thin four-sided spike from z = -3 up to its tip at (x, y, tip).
+PatchScene spike_at(const EmbedDomain& domain, double x, double y, double tip) {
+  PatchScene scene;
+  const int first = domain.fixed_count;
+  const double r = 0.6;
+  scene.positions = {
+      {x, y, tip}, {x - r, y - r, -3}, {x + r, y - r, -3}, {x + r, y + r, -3}, {x - r, y + r, -3}};
+  for (int k = 0; k < 4; ++k)
+    scene.faces.push_back({first, first + 1 + k, first + 1 + (k + 1) % 4});
+  return scene;
+}
+
+double highest(const std::vector<Vec3>& positions) {
+  double z = -1e9;
+  for (const Vec3& p : positions) z = std::max(z, p[2]);
+  return z;
+}
+
+TEST(Untangle, CurveLengthGradientMatchesFiniteDifferences) {
+  // A bumpy patch through a layer at half its height: many crossing curves.
+  const EmbedDomain domain = testing::lattice_domain(14, 12, [](const Vec2& uv) {
+    return Vec3{0.7 * uv[0], 0.7 * uv[1], 0.3 * std::sin(uv[0]) * std::cos(0.8 * uv[1])};
+  });
+  const FabricEnergy energy(domain, weights());
+  std::vector<Vec3> start = arap_embed(domain, {0.5, 30});
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) start[v][2] += jitter(random);
+  const PatchContact contact(domain, layer_at(domain, 0.5 * highest(start)), {});
+  const Eigen::VectorXd x = energy.variables(start);
+  const std::vector<std::pair<int, int>> pairs = crossing_pairs(contact, x);
+  ASSERT_GT(pairs.size(), 10u) << "the case does not test anything";
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(x.size());
+  const double length = crossing_curve_length(contact, pairs, x, &gradient);
+  EXPECT_GT(length, 1);
+  EXPECT_GT(gradient.norm(), 0);
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd direction(x.size());
+    for (Eigen::Index k = 0; k < x.size(); ++k) direction[k] = jitter(random);
+    const double h = 1e-7;
+    const double numeric = (crossing_curve_length(contact, pairs, x + h * direction, nullptr) -
+                            crossing_curve_length(contact, pairs, x - h * direction, nullptr)) /
+                           (2 * h);
+    EXPECT_NEAR(gradient.dot(direction), numeric, 1e-5 * (1 + std::abs(numeric))) << trial;
+  }
+}
+
+TEST(Untangle, PairsThatDoNotCrossAddNothing) {
+  const EmbedDomain domain = testing::lattice_domain(10, 10, [](const Vec2& uv) {
+    return Vec3{uv[0], uv[1], 0};
+  });
+  const FabricEnergy energy(domain, weights());
+  const std::vector<Vec3> flat = arap_embed(domain, {1, 30});
+  // The layer well above the flat patch: no pair crosses, the curves are empty.
+  const PatchContact contact(domain, layer_at(domain, 2), {});
+  const Eigen::VectorXd x = energy.variables(flat);
+  EXPECT_TRUE(crossing_pairs(contact, x).empty());
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(x.size());
+  EXPECT_EQ(
+      crossing_curve_length(contact, {{domain.strip_face_count, contact.mesh().faces.size() - 1}},
+                            x, &gradient),
+      0.0);
+  EXPECT_EQ(gradient.norm(), 0.0);
+  // A clean start comes back as it is.
+  const std::optional<Eigen::VectorXd> same = untangle(energy, contact, x, {}, {});
+  ASSERT_TRUE(same.has_value());
+  EXPECT_EQ(*same, x);
+}
+
+TEST(Untangle, ASpikeThroughTheFlatPatchEndsUnderIt) {
+  const EmbedDomain domain = testing::lattice_domain(14, 12, [](const Vec2& uv) {
+    return Vec3{uv[0], uv[1], 0};
+  });
+  const FabricEnergy energy(domain, weights());
+  const std::vector<Vec3> flat = arap_embed(domain, {1, 30});
+  Vec3 middle{0, 0, 0};
+  for (const Vec3& p : domain.fixed_positions) middle = add(middle, p);
+  middle = scaled(middle, 1.0 / domain.fixed_positions.size());
+  const double tip = 0.8;
+  const PatchContact contact(domain, spike_at(domain, middle[0], middle[1], tip), {});
+  const Eigen::VectorXd x = energy.variables(flat);
+  ASSERT_FALSE(crossing_pairs(contact, x).empty()) << "the case does not test anything";
+  const std::optional<Eigen::VectorXd> untangled = untangle(energy, contact, x, {}, {});
+  ASSERT_TRUE(untangled.has_value());
+  EXPECT_TRUE(crossing_pairs(contact, *untangled).empty());
+  EXPECT_TRUE(std::isfinite(contact.evaluate(*untangled, nullptr)));
+  // The patch went over the tip, not through it.
+  EXPECT_GT(highest(energy.positions(*untangled)), tip);
+}
+
+TEST(Untangle, ABumpyPatchThroughALayerEndsBelowIt) {
+  // The strip lies at z = 0 and the layer at 0.25 over all of it: the patch's
+  // bumps pass through the layer and must come back under it.
+  const EmbedDomain domain = testing::lattice_domain(16, 14, [](const Vec2& uv) {
+    return Vec3{0.8 * uv[0], 0.8 * uv[1], 0};
+  });
+  const FabricEnergy energy(domain, weights());
+  std::vector<Vec3> start = arap_embed(domain, {0.5, 30});
+  for (int v = domain.fixed_count; v < domain.vertex_count(); ++v)
+    start[v][2] = 0.6 * std::sin(start[v][0]) * std::sin(start[v][1]);
+  const double layer = 0.25;
+  const PatchContact contact(domain, layer_at(domain, layer), {});
+  const Eigen::VectorXd x = energy.variables(start);
+  ASSERT_GT(crossing_pairs(contact, x).size(), 10u) << "the case does not test anything";
+  const std::optional<Eigen::VectorXd> untangled = untangle(energy, contact, x, {}, {});
+  ASSERT_TRUE(untangled.has_value());
+  EXPECT_TRUE(crossing_pairs(contact, *untangled).empty());
+  EXPECT_LT(highest(energy.positions(*untangled)), layer);
+}
+
+}  // namespace
+}  // namespace foldfill
