@@ -572,5 +572,29 @@ TEST(Inpaint, ASpikeThroughTheHoleIsGoneOverFromAnUntangledStart) {
   }
 }
 
+
+// Without untangling rounds the spike's start stays unguarded (so the test
+// above tests the untangling); start options out of range are usage errors.
+TEST(Inpaint, StartOptionsAreUsedAndChecked) {
+  const Mesh mesh = sheet_over_a_spike(1);
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
+  FillOptions options;
+  options.fallback.enabled = false;
+  options.start.untangle.rounds = 0;
+  const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, options);
+  EXPECT_EQ(result.report.holes.at(0).start, StartKind::Unguarded);
+  EXPECT_GT(result.report.holes.at(0).crossings.total(), 0);
+  for (int k = 0; k < 5; ++k) {
+    FillOptions bad;
+    if (k == 0) bad.start.obstacle_clearance = 0;
+    if (k == 1) bad.start.membrane_bisections = -1;
+    if (k == 2) bad.start.folds_first_tolerance = 1;
+    if (k == 3) bad.start.untangle.iterations_per_round = 0;
+    if (k == 4) bad.start.untangle.weights[1] = -1;
+    EXPECT_THROW(fill_holes(mesh, loops, {loops[hole].id}, bad), UsageError) << k;
+  }
+}
+
 }  // namespace
 }  // namespace foldfill

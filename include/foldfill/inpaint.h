@@ -64,6 +64,25 @@ struct FallbackOptions {
   double min_angle_deg = 1;
 };
 
+// How a patch's start is made one that crosses nothing (normalised units:
+// the hole's length scale).
+struct StartOptions {
+  // How far outside an obstacle start vertices in or near it are put: a face
+  // between such vertices stays outside a curved obstacle unless its radius is
+  // under a quarter of an edge.
+  double obstacle_clearance = 0.25;
+  // Bisections of the way from the ARAP start towards the membrane, for the
+  // first point of it that crosses nothing.
+  int membrane_bisections = 6;
+  // The stopping threshold (SolverOptions::relative_energy_tol) of the stiff
+  // first minimisation (FillOptions::stiff_start_lambda), which only sets the
+  // large folds up.
+  double folds_first_tolerance = 1e-4;
+  // Where the ARAP start and the membrane both cross something: how the ARAP
+  // start is untangled (untangle.h) into one that does not.
+  UntangleOptions untangle;
+};
+
 struct FillOptions {
   TriangulateOptions triangulate;
   ArapOptions arap;
@@ -77,9 +96,8 @@ struct FillOptions {
   // hole instead of ARAP (see multilevel.h); `arap` then places the coarsest
   // level. Gradient descent always starts from ARAP, as in the paper.
   MultilevelOptions multilevel;
-  // Where the ARAP start and the membrane both cross something: how the ARAP
-  // start is untangled (untangle.h) into one that does not.
-  UntangleOptions untangle;
+  // How a start that crosses nothing is found (README, "Never through the cloth").
+  StartOptions start;
   // With the fast solver, a patch (or its coarsest level) whose bending
   // weight is below this is first minimised with this weight, then with its
   // own from there: the large folds form first (0: never).

@@ -34,17 +34,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// How far (in units of the hole's length scale) start vertices are put
-// outside an obstacle they are in or near: a face between such vertices
-// stays outside a curved obstacle unless its radius is under a quarter of
-// an edge.
-constexpr double kObstacleClearance = 0.25;
-// The stopping threshold of the stiff minimisation of minimise_folds_first.
-constexpr double kFoldsFirstTolerance = 1e-4;
 // A patch face with an angle under this (degrees) counts as of zero area.
 constexpr double kDegenerateAngle = 1e-3;
-// Bisection steps of the way from the ARAP start towards the membrane.
-constexpr int kBlendSteps = 6;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -79,6 +70,18 @@ void apply_prototype_weights(const PrototypeWeights& w, double length_scale, Ene
 namespace {
 
 void check_options(const FillOptions& options, const std::string& source) {
+  const StartOptions& start = options.start;
+  const UntangleOptions& untangle = start.untangle;
+  const bool weights_positive = std::all_of(untangle.weights.begin(), untangle.weights.end(),
+                                            [](double w) { return w > 0 && std::isfinite(w); });
+  if (!(start.obstacle_clearance > 0 && std::isfinite(start.obstacle_clearance)) ||
+      start.membrane_bisections < 0 ||
+      !(start.folds_first_tolerance > 0 && start.folds_first_tolerance < 1) ||
+      untangle.rounds < 0 || untangle.iterations_per_round < 1 || !weights_positive)
+    throw UsageError(source +
+                     ": start options out of range (obstacle_clearance and the untangling "
+                     "weights must be positive, folds_first_tolerance in (0, 1), "
+                     "membrane_bisections and rounds at least 0, iterations_per_round at least 1)");
   if (!options.prototype) return;
   const bool weights_set = options.energy.lambda != EnergyOptions{}.lambda ||
                            options.energy.repulsion != EnergyOptions{}.repulsion ||
@@ -308,12 +311,13 @@ void lift_over_obstacles(const EmbedDomain& domain, const std::vector<Obstacle>&
   }
 }
 
-// The clearances a start is tried with: kObstacleClearance, then (with
+// The clearances a start is tried with: `clearance`, then (with
 // obstacles) the largest circumradius of the rest triangles, beyond which no
 // triangle whose corners are that far outside a convex obstacle (or a convex
 // part of one, a box's corner) can reach into it.
-std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obstacle>& obstacles) {
-  std::vector<double> result{kObstacleClearance};
+std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obstacle>& obstacles,
+                               double clearance) {
+  std::vector<double> result{clearance};
   if (obstacles.empty()) return result;
   double largest = 0;
   for (size_t f = domain.strip_face_count; f < domain.faces.size(); ++f) {
@@ -327,7 +331,7 @@ std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obst
         std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     if (twice_area > 0) largest = std::max(largest, ab * bc * ca / (2 * twice_area));
   }
-  if (largest > kObstacleClearance) result.push_back(1.1 * largest);
+  if (largest > clearance) result.push_back(1.1 * largest);
   return result;
 }
 
@@ -350,6 +354,7 @@ struct Level {
   const FabricEnergy& energy;
   const PatchContact& contact;
   const std::vector<Obstacle>& obstacles;
+  const StartOptions& options;
 };
 
 // A start for `level` that crosses nothing: `candidate` cleared of the
@@ -362,7 +367,7 @@ std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vect
   blend = 0;
   const EmbedDomain& domain = level.domain;
   const std::vector<Vec3> membrane_shape = membrane_embed(domain);
-  for (double clearance : clearances(domain, level.obstacles)) {
+  for (double clearance : clearances(domain, level.obstacles, level.options.obstacle_clearance)) {
     std::vector<Vec3> start = candidate;
     clear_obstacles(domain, level.obstacles, clearance, start);
     if (crosses_nothing(domain, level.contact, start, level.energy)) return start;
@@ -382,7 +387,7 @@ std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vect
       return x;
     };
     double clean = 1, crossing = 0;
-    for (int step = 0; step < kBlendSteps; ++step) {
+    for (int step = 0; step < level.options.membrane_bisections; ++step) {
       const double s = 0.5 * (clean + crossing);
       (crosses_nothing(domain, level.contact, mix(s), level.energy) ? clean : crossing) = s;
     }
@@ -395,12 +400,13 @@ std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vect
 // `positions` (cleared of the obstacles) untangled (untangle.h) and cleared
 // again, when that crosses nothing; nothing otherwise.
 std::optional<std::vector<Vec3>> untangled(const Level& level, const std::vector<Vec3>& positions,
-                                           const UntangleOptions& options, const Budget& budget) {
+                                           const Budget& budget) {
   const std::optional<Eigen::VectorXd> x =
-      untangle(level.energy, level.contact, level.energy.variables(positions), options, budget);
+      untangle(level.energy, level.contact, level.energy.variables(positions),
+               level.options.untangle, budget);
   if (!x) return std::nullopt;
   std::vector<Vec3> result = level.energy.positions(*x);
-  clear_obstacles(level.domain, level.obstacles, kObstacleClearance, result);
+  clear_obstacles(level.domain, level.obstacles, level.options.obstacle_clearance, result);
   if (!crosses_nothing(level.domain, level.contact, result, level.energy)) return std::nullopt;
   return result;
 }
@@ -423,7 +429,7 @@ SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
 SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy& energy,
                                   const PatchContact* contact, const std::vector<Vec3>& start,
                                   const SolverOptions& solver, double stiff_lambda,
-                                  const Budget& budget) {
+                                  double tolerance, const Budget& budget) {
   if (!(energy.options().lambda < stiff_lambda) || solver.kind != SolverKind::Fast)
     return minimise(energy, contact, start, solver, budget);
   EnergyOptions stiff_options = energy.options();
@@ -431,7 +437,7 @@ SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy&
   const FabricEnergy stiff(domain, stiff_options);
   // It only has to set the folds up: a looser stop.
   SolverOptions rough = solver;
-  rough.relative_energy_tol = kFoldsFirstTolerance;
+  rough.relative_energy_tol = tolerance;
   if (solver.progress)
     rough.progress = [&](SolverProgress p) {
       p.stage = MinimisationStage::FoldsFirst;
@@ -478,7 +484,7 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
       };
     const FabricEnergy level_energy(level, energy_options);
     const PatchContact level_contact(level, scene, options.contact, obstacles.analytic);
-    const Level here{level, level_energy, level_contact, obstacles.normalised};
+    const Level here{level, level_energy, level_contact, obstacles.normalised, options.start};
     double blend = 0;
     const std::optional<std::vector<Vec3>> from = clean_start(
         here, coarse ? std::move(*coarse) : arap_embed(level, options.arap, budget), blend);
@@ -490,17 +496,18 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     const SolverResult solved =
         k + 1 == levels.size()
             ? minimise_folds_first(level, level_energy, &level_contact, *from, level_solver,
-                                   options.stiff_start_lambda, budget)
+                                   options.stiff_start_lambda, options.start.folds_first_tolerance,
+                                   budget)
             : minimise(level_energy, &level_contact, *from, level_solver, budget);
     if (solved.stop_reason == StopReason::Cancelled) throw FillFailedError("cancelled");
     const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
     coarse = interpolate_patch(level, level_energy.positions(solved.x), finer);
   }
-  const Level fine{plan.domain, energy, contact, obstacles.normalised};
+  const Level fine{plan.domain, energy, contact, obstacles.normalised, options.start};
   // An interpolated coarse level can cross something where the finer
   // triangles cut across a tight fold: the domain then starts from ARAP.
   if (coarse) {
-    clear_obstacles(plan.domain, obstacles.normalised, kObstacleClearance, *coarse);
+    clear_obstacles(plan.domain, obstacles.normalised, options.start.obstacle_clearance, *coarse);
     if (crosses_nothing(plan.domain, contact, *coarse, energy)) {
       start.positions = std::move(*coarse);
       start.kind = StartKind::CoarseLevels;
@@ -513,8 +520,8 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     start.kind = start.blend > 0 ? StartKind::TowardsMembrane : StartKind::Arap;
     return start;
   }
-  clear_obstacles(plan.domain, obstacles.normalised, kObstacleClearance, arap);
-  if (std::optional<std::vector<Vec3>> clean = untangled(fine, arap, options.untangle, budget)) {
+  clear_obstacles(plan.domain, obstacles.normalised, options.start.obstacle_clearance, arap);
+  if (std::optional<std::vector<Vec3>> clean = untangled(fine, arap, budget)) {
     start.positions = std::move(*clean);
     start.kind = StartKind::Untangled;
     return start;
@@ -615,7 +622,8 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
       initial.kind == StartKind::CoarseLevels
           ? minimise(energy, &contact, initial.positions, solver, budget)
           : minimise_folds_first(domain, energy, guarded ? &contact : nullptr, initial.positions,
-                                 solver, options.stiff_start_lambda, budget);
+                                 solver, options.stiff_start_lambda,
+                                 options.start.folds_first_tolerance, budget);
   report.iterations = solved.iterations;
   report.stop_reason = solved.stop_reason;
   report.seconds.optimize = seconds_since(stage);
