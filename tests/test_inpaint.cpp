@@ -572,7 +572,6 @@ TEST(Inpaint, ASpikeThroughTheHoleIsGoneOverFromAnUntangledStart) {
   }
 }
 
-
 // Without untangling rounds the spike's start stays unguarded (so the test
 // above tests the untangling); start options out of range are usage errors.
 TEST(Inpaint, StartOptionsAreUsedAndChecked) {
@@ -593,6 +592,40 @@ TEST(Inpaint, StartOptionsAreUsedAndChecked) {
     if (k == 3) bad.start.untangle.iterations_per_round = 0;
     if (k == 4) bad.start.untangle.weights[1] = -1;
     EXPECT_THROW(fill_holes(mesh, loops, {loops[hole].id}, bad), UsageError) << k;
+  }
+}
+
+// Closing a flat flap of cloth (hanging through a sheet's hole) by its
+// outer edge, asked for explicitly, puts the patch onto the flap itself: a
+// start that lies on what it must not cross touches it, and is no start that
+// crosses nothing. Whatever start the fill reports as clean, its output
+// crosses nothing.
+TEST(Inpaint, AStartLyingOnTheClothIsNotClean) {
+  Mesh mesh = sheet_over_a_spike(1);
+  mesh.faces.resize(mesh.faces.size() - 6);  // the spike's faces
+  mesh.positions.resize(mesh.positions.size() - 5);
+  const int first = mesh.vertex_count(), columns = 6, rows = 12;
+  for (int r = 0; r <= rows; ++r)
+    for (int c = 0; c <= columns; ++c)
+      mesh.positions.push_back({1.7 + 0.6 * c / columns, 2.0, -0.2 + 2.2 * r / rows});
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < columns; ++c) {
+      const int a = first + r * (columns + 1) + c, b = a + 1, d = a + columns + 1, e = d + 1;
+      mesh.faces.push_back({a, b, e});
+      mesh.faces.push_back({a, e, d});
+    }
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  ASSERT_EQ(loops.size(), 3u);
+  int flap = -1;
+  for (const BoundaryLoop& loop : loops)
+    if (loop.vertices.front() >= first) flap = loop.id;
+  ASSERT_GE(flap, 0);
+  const FillResult result = fill_holes(mesh, loops, {flap}, FillOptions{});
+  const HoleReport& report = result.report.holes.at(0);
+  ASSERT_TRUE(report.filled) << report.reason;
+  if (report.start != StartKind::Unguarded && report.method != FillMethod::Smooth &&
+      report.method != FillMethod::Liepa && report.method != FillMethod::Triangulation) {
+    EXPECT_EQ(report.crossings.total(), 0) << to_string(report.start);
   }
 }
 

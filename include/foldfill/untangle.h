@@ -31,6 +31,10 @@ struct UntangleOptions {
   // stiffness sets how far the patch moves in a round; which of them gets
   // through first depends on the case.
   std::array<double, 3> weights = {0.3, 0.1, 1};
+  // Once nothing crosses, pairs may still touch: the fill then minimises the
+  // fabric energy with the contact's barrier for up to this many iterations,
+  // which pushes them apart without letting anything cross.
+  int separation_iterations = 30;
 };
 
 // The crossing curves' summed length at `x` over the pairs of faces of

@@ -34,6 +34,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Primitives of a start nearer than this (normalised) touch: the start is
+// not one that crosses nothing.
+constexpr double kTouching = 1e-6;
 // A patch face with an angle under this (degrees) counts as of zero area.
 constexpr double kDegenerateAngle = 1e-3;
 
@@ -77,7 +80,8 @@ void check_options(const FillOptions& options, const std::string& source) {
   if (!(start.obstacle_clearance > 0 && std::isfinite(start.obstacle_clearance)) ||
       start.membrane_bisections < 0 ||
       !(start.folds_first_tolerance > 0 && start.folds_first_tolerance < 1) ||
-      untangle.rounds < 0 || untangle.iterations_per_round < 1 || !weights_positive)
+      untangle.rounds < 0 || untangle.iterations_per_round < 1 ||
+      untangle.separation_iterations < 0 || !weights_positive)
     throw UsageError(source +
                      ": start options out of range (obstacle_clearance and the untangling "
                      "weights must be positive, folds_first_tolerance in (0, 1), "
@@ -336,11 +340,15 @@ std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obst
 }
 
 // Whether the patch at `positions` crosses nothing (itself, its strip, the
-// scene: exact predicates) and touches nothing (the barrier is finite).
+// scene: exact predicates) and touches nothing (the barrier is finite and no
+// pair is nearer than kTouching).
 bool crosses_nothing(const EmbedDomain& domain, const PatchContact& contact,
                      const std::vector<Vec3>& positions, const FabricEnergy& energy) {
   const Eigen::VectorXd x = energy.variables(positions);
   if (!std::isfinite(contact.evaluate(x, nullptr))) return false;
+  // A pair nearer than this may cross once the patch is back in the mesh's
+  // units, rounded: it touches.
+  if (contact.min_distance(x, kTouching) < kTouching) return false;
   std::vector<int> patch(domain.faces.size() - domain.strip_face_count);
   std::iota(patch.begin(), patch.end(), domain.strip_face_count);
   const SubsetCrossings crossings =
@@ -407,6 +415,17 @@ std::optional<std::vector<Vec3>> untangled(const Level& level, const std::vector
   if (!x) return std::nullopt;
   std::vector<Vec3> result = level.energy.positions(*x);
   clear_obstacles(level.domain, level.obstacles, level.options.obstacle_clearance, result);
+  // Untangling stops once nothing crosses, when pairs may still touch: a few
+  // guarded iterations of the fabric energy with the barrier push them apart
+  // (every step bounded so that nothing crosses).
+  Eigen::VectorXd variables = level.energy.variables(result);
+  if (level.contact.min_distance(variables, kTouching) < kTouching) {
+    SolverOptions separate;
+    separate.max_iterations = level.options.untangle.separation_iterations;
+    const PatchObjective objective(level.energy, &level.contact);
+    variables = minimize(objective, variables, separate, budget).x;
+    result = level.energy.positions(variables);
+  }
   if (!crosses_nothing(level.domain, level.contact, result, level.energy)) return std::nullopt;
   return result;
 }
