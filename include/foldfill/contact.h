@@ -28,10 +28,12 @@ struct ContactOptions {
   // Weight of the barrier relative to the isometric term.
   double stiffness = 1;
   // Candidate pairs are searched within thickness + skin and kept while no
-  // vertex has moved more than skin / 2 (for the barrier), or while twice that
-  // move plus twice the step's longest stays within thickness + skin (for the
-  // step bound; a step they do not cover searches them again around its
-  // midpoint); normalised.
+  // vertex has moved more than skin / 2 from where they were searched (for
+  // the barrier), or while no vertex comes farther than (thickness + skin) / 2
+  // from there during a step (for the step bound; a step they do not cover
+  // searches them again around its end, where the next step starts);
+  // normalised. The default lasts for two steps of the fast solver's longest
+  // moves (SolverOptions::max_displacement) in a row.
   double skin = 0.5;
   CcdOptions ccd;
 };
@@ -79,6 +81,10 @@ class PatchContact {
   // (mesh().faces) are the domain's, in order, then the scene's.
   std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
 
+  // How many times the candidate pairs were searched (most of the
+  // contact's cost).
+  int candidate_searches() const { return candidate_searches_; }
+
   const ContactOptions& options() const { return options_; }
   const CollisionMesh& mesh() const { return broad_phase_.mesh(); }
 
@@ -87,9 +93,9 @@ class PatchContact {
   const double* place(const Eigen::VectorXd& x) const;
   void refresh_candidates() const;
   // Fills active_ with the candidates that may come closer than `distance`
-  // while each free vertex moves on from the current points by up to the
-  // length of its `move` (3 per collision vertex; null: none); false, with
-  // active_ untouched, where the candidates need not hold all such pairs.
+  // at the current points or, with `move` (3 per collision vertex; null:
+  // none), anywhere along the step from them by `move`; false, with active_
+  // untouched, where the candidates need not hold all such pairs.
   bool gather(double distance, const double* move) const;
   void select_candidates(double distance) const;
 
@@ -108,6 +114,7 @@ class PatchContact {
   mutable CollisionCandidates candidates_, active_;
   mutable std::vector<double> point_triangle_distance_, edge_edge_distance_;
   mutable bool has_candidates_ = false;
+  mutable int candidate_searches_ = 0;
 };
 
 // The fabric energy plus the contact's barrier, bounded by its steps: what
