@@ -32,9 +32,11 @@ struct ContactOptions {
   // the barrier), or while no vertex comes farther than (thickness + skin) / 2
   // from there during a step (for the step bound; a step they do not cover
   // searches them again around its end, where the next step starts);
-  // normalised. The default lasts for two steps of the fast solver's longest
-  // moves (SolverOptions::max_displacement) in a row.
-  double skin = 0.5;
+  // normalised. The default is a little over twice the fast solver's longest
+  // move (SolverOptions::max_displacement, 0.2): the least that lets fresh
+  // candidates last for two such steps in a row, and the fewer pairs the
+  // cheaper each search.
+  double skin = 0.45;
   CcdOptions ccd;
 };
 
