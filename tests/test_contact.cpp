@@ -138,6 +138,28 @@ TEST(Contact, StepBoundStopsARigidMoveBeforeTheLayer) {
   EXPECT_EQ(contact.step_bound(x, side), 1.0);
 }
 
+// A step the candidates do not cover searches them again around its end,
+// so that they also cover the next step of the same length: steps of the
+// fast solver's longest move search once every second step.
+TEST(Contact, CandidatesSearchedAtAStepsEndLastForTheNextStep) {
+  const Crumpling problem;
+  const PatchContact contact(problem.domain, layer_above(problem.domain, problem.top + 1), {});
+  const Eigen::VectorXd x = problem.energy.variables(problem.start);
+  Eigen::VectorXd side = Eigen::VectorXd::Zero(x.size());
+  for (Eigen::Index k = 0; k < side.size(); k += 3) side[k] = SolverOptions{}.max_displacement;
+  EXPECT_EQ(contact.candidate_searches(), 0);
+  EXPECT_EQ(contact.step_bound(x, side), 1.0);
+  EXPECT_EQ(contact.candidate_searches(), 1);
+  EXPECT_EQ(contact.step_bound(x + side, side), 1.0);
+  EXPECT_TRUE(std::isfinite(contact.evaluate(x + 2 * side, nullptr)));
+  EXPECT_EQ(contact.candidate_searches(), 1);
+  EXPECT_EQ(contact.step_bound(x + 2 * side, side), 1.0);
+  EXPECT_EQ(contact.candidate_searches(), 2);
+  // Back to where they were searched: covered.
+  EXPECT_EQ(contact.step_bound(x + 3 * side, -side), 1.0);
+  EXPECT_EQ(contact.candidate_searches(), 2);
+}
+
 // A floppy patch crumpling under a layer a little above its start: without
 // the contact it crosses itself or the layer; with it, neither the result
 // nor any iterate in between crosses anything, with either solver.

@@ -588,7 +588,7 @@ TEST(Inpaint, StartOptionsAreUsedAndChecked) {
     FillOptions bad;
     if (k == 0) bad.start.obstacle_clearance = 0;
     if (k == 1) bad.start.membrane_bisections = -1;
-    if (k == 2) bad.start.folds_first_tolerance = 1;
+    if (k == 2) bad.start.untangle.rounds = -1;
     if (k == 3) bad.start.untangle.iterations_per_round = 0;
     if (k == 4) bad.start.untangle.weights[1] = -1;
     EXPECT_THROW(fill_holes(mesh, loops, {loops[hole].id}, bad), UsageError) << k;

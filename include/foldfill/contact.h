@@ -28,11 +28,15 @@ struct ContactOptions {
   // Weight of the barrier relative to the isometric term.
   double stiffness = 1;
   // Candidate pairs are searched within thickness + skin and kept while no
-  // vertex has moved more than skin / 2 (for the barrier), or while twice that
-  // move plus twice the step's longest stays within thickness + skin (for the
-  // step bound; a step they do not cover searches them again around its
-  // midpoint); normalised.
-  double skin = 0.5;
+  // vertex has moved more than skin / 2 from where they were searched (for
+  // the barrier), or while no vertex comes farther than (thickness + skin) / 2
+  // from there during a step (for the step bound; a step they do not cover
+  // searches them again around its end, where the next step starts);
+  // normalised. The default is a little over twice the fast solver's longest
+  // move (SolverOptions::max_displacement, 0.2): the least that lets fresh
+  // candidates last for two such steps in a row, and the fewer pairs the
+  // cheaper each search.
+  double skin = 0.45;
   CcdOptions ccd;
 };
 
@@ -79,6 +83,10 @@ class PatchContact {
   // (mesh().faces) are the domain's, in order, then the scene's.
   std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
 
+  // How many times the candidate pairs were searched (most of the
+  // contact's cost).
+  int candidate_searches() const { return candidate_searches_; }
+
   const ContactOptions& options() const { return options_; }
   const CollisionMesh& mesh() const { return broad_phase_.mesh(); }
   // The patch's faces in mesh().faces: [first_patch_face(), end_patch_face()).
@@ -90,9 +98,9 @@ class PatchContact {
   const double* place(const Eigen::VectorXd& x) const;
   void refresh_candidates() const;
   // Fills active_ with the candidates that may come closer than `distance`
-  // while each free vertex moves on from the current points by up to the
-  // length of its `move` (3 per collision vertex; null: none); false, with
-  // active_ untouched, where the candidates need not hold all such pairs.
+  // at the current points or, with `move` (3 per collision vertex; null:
+  // none), anywhere along the step from them by `move`; false, with active_
+  // untouched, where the candidates need not hold all such pairs.
   bool gather(double distance, const double* move) const;
   void select_candidates(double distance) const;
 
@@ -111,6 +119,7 @@ class PatchContact {
   mutable CollisionCandidates candidates_, active_;
   mutable std::vector<double> point_triangle_distance_, edge_edge_distance_;
   mutable bool has_candidates_ = false;
+  mutable int candidate_searches_ = 0;
 };
 
 // The fabric energy plus the contact's barrier, bounded by its steps: what

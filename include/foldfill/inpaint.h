@@ -74,10 +74,6 @@ struct StartOptions {
   // Bisections of the way from the ARAP start towards the membrane, for the
   // first point of it that crosses nothing.
   int membrane_bisections = 6;
-  // The stopping threshold (SolverOptions::relative_energy_tol) of the stiff
-  // first minimisation (FillOptions::stiff_start_lambda), which only sets the
-  // large folds up.
-  double folds_first_tolerance = 1e-4;
   // Where the ARAP start and the membrane both cross something: how the ARAP
   // start is untangled (untangle.h) into one that does not.
   UntangleOptions untangle;

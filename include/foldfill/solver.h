@@ -53,10 +53,13 @@ struct SolverOptions {
   SolverKind kind = SolverKind::Fast;
   int max_iterations = 20000;
   double step = 0.05;  // gradient descent: fixed step (normalised units)
-  // Stop when |dE| / E stays below this for 10 iterations in a row (unset:
-  // the method's own, 1e-9 for gradient descent, 1e-7 for Fast, which leave
-  // each about as close to its minimum: see docs/benchmarks.md) ...
+  // Stop when the energy has changed by less than this per iteration, as a
+  // fraction of the energy, on average over the last stop_window iterations:
+  // when its highest and lowest values there are less than stop_window times
+  // this times E apart (unset: the method's own, 1e-9 for gradient descent,
+  // 1e-5 for Fast; see docs/benchmarks.md) ...
   std::optional<double> relative_energy_tol;
+  int stop_window = 10;           // iterations (at least 1)
   double gradient_tol = 1e-6;     // ... or when the RMS gradient per vertex falls below this
   double time_limit_seconds = 0;  // 0: none
   // Fast: no vertex moves further than this in one step (normalised units);

@@ -118,6 +118,7 @@ void PatchContact::refresh_candidates() const {
   candidates_.edge_edge.resize(kept);
   anchor_ = points_;
   has_candidates_ = true;
+  ++candidate_searches_;
 }
 
 // The candidates whose anchor distance is at most `distance` into active_.
@@ -133,19 +134,21 @@ void PatchContact::select_candidates(double distance) const {
 
 // A pair that is not among the candidates was at least thickness + skin
 // apart at the anchor, and can since have come closer by at most twice the
-// largest drift of a free vertex from it plus twice the largest move.
+// largest distance of a free vertex from its anchor position: at the current
+// points, or anywhere along the step `move` (at its start or its end, the
+// distance to a point being convex along a segment).
 bool PatchContact::gather(double distance, const double* move) const {
   if (!has_candidates_) return false;
-  double drift = 0, largest_move = 0;
+  double drift = 0;
   for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
     const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
                  dz = points_[k + 2] - anchor_[k + 2];
     drift = std::max(drift, dx * dx + dy * dy + dz * dz);
-    if (move)
-      largest_move = std::max(largest_move, move[k] * move[k] + move[k + 1] * move[k + 1] +
-                                                move[k + 2] * move[k + 2]);
+    if (!move) continue;
+    const double ex = dx + move[k], ey = dy + move[k + 1], ez = dz + move[k + 2];
+    drift = std::max(drift, ex * ex + ey * ey + ez * ez);
   }
-  const double closer = 2 * (std::sqrt(drift) + std::sqrt(largest_move));
+  const double closer = 2 * std::sqrt(drift);
   if (!(distance + closer < options_.thickness + options_.skin)) return false;
   select_candidates(distance + closer);
   return true;
@@ -181,23 +184,13 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
   // The pairs that may meet during the step: the candidates' (gather), or,
   // for a step too long for them even when fresh, those of the swept boxes.
   if (!gather(0.0, displacement_.data())) {
-    // Fresh candidates around the step's midpoint: every point of the step
-    // is within half its move of there, and so are the line search's trial
-    // points and the next step's start.
-    for (size_t k = offset; k < points_.size(); ++k) points_[k] += 0.5 * displacement_[k];
-    double largest_move = 0;
-    for (size_t k = offset; k < points_.size(); k += 3)
-      largest_move = std::max(largest_move, displacement_[k] * displacement_[k] +
-                                                displacement_[k + 1] * displacement_[k + 1] +
-                                                displacement_[k + 2] * displacement_[k + 2]);
-    largest_move = std::sqrt(largest_move);
+    // Fresh candidates around the step's end: every point of the step is
+    // within its move of there, and the next step starts there (most steps
+    // are taken whole), so that they last for it as well.
+    for (size_t k = offset; k < points_.size(); ++k) points_[k] += displacement_[k];
     refresh_candidates();
     place(x);
-    // Two primitives that meet during the step were at most half their two
-    // moves apart at the midpoint.
-    if (largest_move < options_.thickness + options_.skin)
-      select_candidates(largest_move);
-    else
+    if (!gather(0.0, displacement_.data()))
       broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
   }
   const double bound =
