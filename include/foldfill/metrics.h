@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -38,6 +39,26 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
 std::vector<std::pair<int, int>> intersecting_face_pairs(const std::vector<Vec3>& positions,
                                                          const std::vector<Tri>& faces,
                                                          int counted_from, int counted_to);
+
+// intersecting_face_pairs for faces [moving_from, moving_to) that move
+// while the others stay where they were at construction: the others' box
+// tree is built once. Same pairs, in the same order.
+class MovingFaceCrossings {
+ public:
+  MovingFaceCrossings(const std::vector<Vec3>& positions, std::vector<Tri> faces, int moving_from,
+                      int moving_to);
+  ~MovingFaceCrossings();
+  MovingFaceCrossings(const MovingFaceCrossings&) = delete;
+  MovingFaceCrossings& operator=(const MovingFaceCrossings&) = delete;
+  // `positions`: the fixed faces' vertices where they were, the moving ones anywhere.
+  std::vector<std::pair<int, int>> pairs(const std::vector<Vec3>& positions) const;
+
+ private:
+  struct Fixed;
+  std::vector<Tri> faces_;
+  int moving_from_ = 0, moving_to_ = 0;
+  std::unique_ptr<Fixed> fixed_;
+};
 
 // The intersecting pairs of faces with at least one face in `subset` (by the
 // rules of count_self_intersections; a degenerate face of `subset` counts

@@ -278,6 +278,57 @@ std::vector<std::pair<int, int>> intersecting_face_pairs(const std::vector<Vec3>
   return pairs;
 }
 
+struct MovingFaceCrossings::Fixed {
+  BoxTree tree;
+  std::vector<int> face;  // of each box of the tree
+};
+
+MovingFaceCrossings::MovingFaceCrossings(const std::vector<Vec3>& positions, std::vector<Tri> faces,
+                                         int moving_from, int moving_to)
+    : faces_(std::move(faces)), fixed_(std::make_unique<Fixed>()) {
+  const int face_count = static_cast<int>(faces_.size());
+  moving_from_ = std::clamp(moving_from, 0, face_count);
+  moving_to_ = std::clamp(moving_to, moving_from_, face_count);
+  int degenerate = 0;
+  std::vector<Box> boxes;
+  for (const FaceBox& b : face_boxes(positions, faces_, moving_from_, degenerate, moving_to_))
+    if (!b.counted) {
+      boxes.push_back(b.box);
+      fixed_->face.push_back(b.face);
+    }
+  fixed_->tree.build(boxes);
+}
+
+MovingFaceCrossings::~MovingFaceCrossings() = default;
+
+std::vector<std::pair<int, int>> MovingFaceCrossings::pairs(
+    const std::vector<Vec3>& positions) const {
+  std::vector<Box> boxes;
+  std::vector<int> face;
+  for (int f = moving_from_; f < moving_to_; ++f) {
+    Box3 box;
+    const Tri& t = faces_[f];
+    if (!face_box(positions, t, box) ||
+        CGAL::collinear(point(positions[t[0]]), point(positions[t[1]]), point(positions[t[2]])))
+      continue;
+    boxes.push_back(box);
+    face.push_back(f);
+  }
+  std::vector<std::pair<int, int>> found;
+  if (boxes.empty()) return found;
+  const BoxTree moving(boxes);
+  moving.for_each_meeting_pair(0.0, [&](int i, int j) {
+    if (faces_intersect(positions, faces_[face[i]], faces_[face[j]]))
+      found.emplace_back(face[i], face[j]);
+  });
+  if (fixed_->face.empty()) return found;
+  moving.for_each_meeting_pair(fixed_->tree, 0.0, [&](int i, int j) {
+    if (faces_intersect(positions, faces_[face[i]], faces_[fixed_->face[j]]))
+      found.emplace_back(face[i], fixed_->face[j]);
+  });
+  return found;
+}
+
 bool passes_through_itself(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                            int counted_from) {
   int degenerate = 0;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "foldfill/metrics.h"
 #include "foldfill/solver.h"
@@ -208,14 +209,20 @@ std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchC
   // own) and the pairs in the box tree's order.
   SolverOptions solver;
   solver.max_iterations = options.iterations_per_round;
+  // What stays the same through the rounds: the fixed faces' box tree, and P
+  // factored.
+  const MovingFaceCrossings crossings(contact.positions(start), contact.mesh().faces,
+                                      contact.first_patch_face(), contact.end_patch_face());
+  std::unique_ptr<FactoredPreconditioner> factor;
   for (double weight : options.weights) {
     Eigen::VectorXd x = start;
     for (int round = 0; round < options.rounds && !budget.spent(); ++round) {
-      const std::vector<std::pair<int, int>> pairs = crossing_pairs(contact, x);
+      const std::vector<std::pair<int, int>> pairs = crossings.pairs(contact.positions(x));
       if (pairs.empty()) break;
       const Eigen::VectorXd anchor = x;
       const CrossingCurveObjective objective(contact, pairs, weight * diagonal, stiffness, anchor);
-      x = minimize(objective, anchor, solver, budget).x;
+      if (!factor) factor = std::make_unique<FactoredPreconditioner>(objective);
+      x = minimize(objective, anchor, solver, budget, factor.get()).x;
     }
     if (clean(contact, x)) return x;
   }
