@@ -11,6 +11,7 @@
 
 #include "foldfill/arap.h"
 #include "foldfill/contact.h"
+#include "foldfill/metrics.h"
 #include "foldfill/untangle.h"
 #include "foldfill/vec3.h"
 #include "lattice_domain.h"
@@ -155,6 +156,31 @@ TEST(Untangle, ABumpyPatchThroughALayerEndsBelowIt) {
   ASSERT_TRUE(untangled.has_value());
   EXPECT_TRUE(crossing_pairs(contact, *untangled).empty());
   EXPECT_LT(highest(energy.positions(*untangled)), layer);
+}
+
+// The pairs found with the fixed faces' tree built once are those of
+// intersecting_face_pairs, in the same order, wherever the patch moves.
+TEST(Untangle, MovingFaceCrossingsFindTheSamePairs) {
+  const EmbedDomain domain = testing::lattice_domain(14, 12, [](const Vec2& uv) {
+    return Vec3{0.7 * uv[0], 0.7 * uv[1], 0.3 * std::sin(uv[0]) * std::cos(0.8 * uv[1])};
+  });
+  const FabricEnergy energy(domain, weights());
+  std::vector<Vec3> start = arap_embed(domain, {0.5, 30});
+  const PatchContact contact(domain, layer_at(domain, 0.5 * highest(start)), {});
+  const MovingFaceCrossings crossings(contact.positions(energy.variables(start)),
+                                      contact.mesh().faces, contact.first_patch_face(),
+                                      contact.end_patch_face());
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> jitter(-0.4, 0.4);
+  size_t found = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    for (int v = domain.fixed_count; v < domain.vertex_count(); ++v) start[v][2] += jitter(random);
+    const Eigen::VectorXd x = energy.variables(start);
+    const auto pairs = crossings.pairs(contact.positions(x));
+    EXPECT_EQ(pairs, crossing_pairs(contact, x)) << trial;
+    found += pairs.size();
+  }
+  EXPECT_GT(found, 0u) << "the case does not test anything";
 }
 
 }  // namespace
