@@ -1,7 +1,7 @@
 // A start that crosses nothing, made from one that does: the length of the
 // curves along which the patch's faces cross other faces (its own, its
-// strip's, the scene's) is minimised together with the fabric energy until
-// no pair crosses (intersection contour minimisation: Volino and
+// strip's, the scene's) is minimised against the patch's stiffness until no
+// pair crosses (intersection contour minimisation: Volino and
 // Magnenat-Thalmann 2006, "Resolving surface collisions through
 // intersection contour minimization"). Shrinking a crossing curve moves the
 // patch through the face it crosses, towards the side where less of the
@@ -54,10 +54,10 @@ std::vector<std::pair<int, int>> crossing_pairs(const PatchContact& contact,
 // cross (found again each round) plus the patch's stiffness (the fabric
 // energy's preconditioner P) against its move from the round's start, so
 // that the patch moves smoothly, as a whole, until no pair crosses. Returns
-// free-vertex positions at which no face pair of the patch
-// crosses (exact test) and no pair touches (the barrier is finite), or
-// nothing when no weight gets there within `options.rounds` rounds or the
-// budget is spent. A clean `start` comes back as it is.
+// free-vertex positions at which no face pair of the patch crosses (exact
+// test) and the barrier is finite (pairs may still be very near: see
+// separation_iterations), or nothing when no weight gets there within `options.rounds` rounds or
+// the budget is spent. A clean `start` comes back as it is.
 std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchContact& contact,
                                         const Eigen::VectorXd& start,
                                         const UntangleOptions& options, const Budget& budget);
