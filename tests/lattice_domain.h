@@ -1,5 +1,6 @@
 // A hand-built EmbedDomain for the embedding tests (ARAP, solver): a lattice
-// of equilateral triangles whose two outer rings are the fixed strip.
+// of equilateral triangles whose two outer rings are the fixed strip; and a
+// flat layer of cloth over it for the contact tests.
 #pragma once
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "foldfill/contact.h"
 #include "foldfill/domain.h"
 
 namespace foldfill::testing {
@@ -67,6 +69,31 @@ inline EmbedDomain lattice_domain(int columns, int rows,
   domain.faces = strip_faces;
   domain.faces.insert(domain.faces.end(), patch_faces.begin(), patch_faces.end());
   return domain;
+}
+
+// A flat square layer of cloth at height z (normalised units) over `domain`'s
+// strip and one unit beyond it, an n x n grid of squares, each split into two
+// triangles.
+inline PatchScene flat_layer(const EmbedDomain& domain, double z, int n) {
+  double low[2] = {1e9, 1e9}, high[2] = {-1e9, -1e9};
+  for (const Vec3& p : domain.fixed_positions)
+    for (int c = 0; c < 2; ++c) {
+      low[c] = std::min(low[c], p[c] - 1);
+      high[c] = std::max(high[c], p[c] + 1);
+    }
+  PatchScene scene;
+  const int first = domain.fixed_count;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      scene.positions.push_back(
+          {low[0] + (high[0] - low[0]) * i / n, low[1] + (high[1] - low[1]) * j / n, z});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = first + j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      scene.faces.push_back({a, b, c});
+      scene.faces.push_back({a, c, d});
+    }
+  return scene;
 }
 
 }  // namespace foldfill::testing

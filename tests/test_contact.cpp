@@ -31,25 +31,7 @@ EnergyOptions test_weights() {
 
 // A flat square layer of cloth over the patch at height z (normalised units).
 PatchScene layer_above(const EmbedDomain& domain, double z) {
-  double low[2] = {1e9, 1e9}, high[2] = {-1e9, -1e9};
-  for (const Vec3& p : domain.fixed_positions)
-    for (int c = 0; c < 2; ++c) {
-      low[c] = std::min(low[c], p[c] - 1);
-      high[c] = std::max(high[c], p[c] + 1);
-    }
-  PatchScene scene;
-  const int n = 24, first = domain.fixed_count;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      scene.positions.push_back(
-          {low[0] + (high[0] - low[0]) * i / n, low[1] + (high[1] - low[1]) * j / n, z});
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = first + j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
-      scene.faces.push_back({a, b, c});
-      scene.faces.push_back({a, c, d});
-    }
-  return scene;
+  return testing::flat_layer(domain, z, 24);
 }
 
 // The crossing triangle pairs of the patch against itself, its strip and

@@ -25,27 +25,9 @@ EnergyOptions weights() {
   return options;
 }
 
-// A flat square layer over the domain's strip (one unit beyond it) at height z.
+// A flat square layer of cloth over the patch at height z (normalised units).
 PatchScene layer_at(const EmbedDomain& domain, double z) {
-  double low[2] = {1e9, 1e9}, high[2] = {-1e9, -1e9};
-  for (const Vec3& p : domain.fixed_positions)
-    for (int c = 0; c < 2; ++c) {
-      low[c] = std::min(low[c], p[c] - 1);
-      high[c] = std::max(high[c], p[c] + 1);
-    }
-  PatchScene scene;
-  const int n = 20, first = domain.fixed_count;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      scene.positions.push_back(
-          {low[0] + (high[0] - low[0]) * i / n, low[1] + (high[1] - low[1]) * j / n, z});
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = first + j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
-      scene.faces.push_back({a, b, c});
-      scene.faces.push_back({a, c, d});
-    }
-  return scene;
+  return testing::flat_layer(domain, z, 20);
 }
 
 // A thin four-sided spike from z = -3 up to its tip at (x, y, tip).
@@ -158,8 +140,9 @@ TEST(Untangle, ABumpyPatchThroughALayerEndsBelowIt) {
   EXPECT_LT(highest(energy.positions(*untangled)), layer);
 }
 
-// The pairs found with the fixed faces' tree built once are those of
-// intersecting_face_pairs, in the same order, wherever the patch moves.
+// The pairs found with the fixed faces' tree built once, at the start, are
+// those found with it built where the patch is, in the same order, wherever
+// the patch moves.
 TEST(Untangle, MovingFaceCrossingsFindTheSamePairs) {
   const EmbedDomain domain = testing::lattice_domain(14, 12, [](const Vec2& uv) {
     return Vec3{0.7 * uv[0], 0.7 * uv[1], 0.3 * std::sin(uv[0]) * std::cos(0.8 * uv[1])};

@@ -33,16 +33,10 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
                              int counted_from = 0);
 
 // The intersecting pairs of faces (by the rules of count_self_intersections)
-// with at least one face of index in [counted_from, counted_to), that one
-// first; degenerate faces are left out. The order is the box tree's, the same
-// for the same input.
-std::vector<std::pair<int, int>> intersecting_face_pairs(const std::vector<Vec3>& positions,
-                                                         const std::vector<Tri>& faces,
-                                                         int counted_from, int counted_to);
-
-// intersecting_face_pairs for faces [moving_from, moving_to) that move
-// while the others stay where they were at construction: the others' box
-// tree is built once. Same pairs, in the same order.
+// with at least one face of index in [moving_from, moving_to), that one
+// first, degenerate faces left out, where those faces move while the others
+// stay where they were at construction: the others' box tree is built once.
+// The order is the box trees', the same for the same input.
 class MovingFaceCrossings {
  public:
   MovingFaceCrossings(const std::vector<Vec3>& positions, std::vector<Tri> faces, int moving_from,

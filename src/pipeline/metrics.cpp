@@ -264,20 +264,6 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
   return count;
 }
 
-std::vector<std::pair<int, int>> intersecting_face_pairs(const std::vector<Vec3>& positions,
-                                                         const std::vector<Tri>& faces,
-                                                         int counted_from, int counted_to) {
-  int degenerate = 0;
-  const std::vector<FaceBox> boxes =
-      face_boxes(positions, faces, counted_from, degenerate, counted_to);
-  std::vector<std::pair<int, int>> pairs;
-  for_each_overlapping_pair(boxes, [&](int f, int g) {
-    if (faces_intersect(positions, faces[f], faces[g])) pairs.emplace_back(f, g);
-    return true;
-  });
-  return pairs;
-}
-
 struct MovingFaceCrossings::Fixed {
   BoxTree tree;
   std::vector<int> face;  // of each box of the tree

@@ -1,9 +1,7 @@
 #include "foldfill/untangle.h"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <memory>
 
 #include "foldfill/metrics.h"
@@ -161,8 +159,15 @@ class CrossingCurveObjective final : public Objective {
   const Eigen::VectorXd& anchor_;
 };
 
-bool clean(const PatchContact& contact, const Eigen::VectorXd& x) {
-  return crossing_pairs(contact, x).empty() && std::isfinite(contact.evaluate(x, nullptr));
+MovingFaceCrossings patch_crossings(const PatchContact& contact, const Eigen::VectorXd& x) {
+  return {contact.positions(x), contact.mesh().faces, contact.first_patch_face(),
+          contact.end_patch_face()};
+}
+
+bool clean(const PatchContact& contact, const MovingFaceCrossings& crossings,
+           const Eigen::VectorXd& x) {
+  return crossings.pairs(contact.positions(x)).empty() &&
+         std::isfinite(contact.evaluate(x, nullptr));
 }
 
 }  // namespace
@@ -189,14 +194,16 @@ double crossing_curve_length(const PatchContact& contact,
 
 std::vector<std::pair<int, int>> crossing_pairs(const PatchContact& contact,
                                                 const Eigen::VectorXd& x) {
-  return intersecting_face_pairs(contact.positions(x), contact.mesh().faces,
-                                 contact.first_patch_face(), contact.end_patch_face());
+  return patch_crossings(contact, x).pairs(contact.positions(x));
 }
 
 std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchContact& contact,
                                         const Eigen::VectorXd& start,
                                         const UntangleOptions& options, const Budget& budget) {
-  if (clean(contact, start)) return start;
+  // What stays the same through the rounds: the fixed faces' box tree, and P
+  // (factored at the first round).
+  const MovingFaceCrossings crossings = patch_crossings(contact, start);
+  if (clean(contact, crossings, start)) return start;
   const Eigen::SparseMatrix<double> stiffness = energy.preconditioner();
   const Eigen::Index n = stiffness.rows();
   if (n == 0) return std::nullopt;
@@ -209,10 +216,6 @@ std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchC
   // own) and the pairs in the box tree's order.
   SolverOptions solver;
   solver.max_iterations = options.iterations_per_round;
-  // What stays the same through the rounds: the fixed faces' box tree, and P
-  // factored.
-  const MovingFaceCrossings crossings(contact.positions(start), contact.mesh().faces,
-                                      contact.first_patch_face(), contact.end_patch_face());
   std::unique_ptr<FactoredPreconditioner> factor;
   for (double weight : options.weights) {
     Eigen::VectorXd x = start;
@@ -224,7 +227,7 @@ std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchC
       if (!factor) factor = std::make_unique<FactoredPreconditioner>(objective);
       x = minimize(objective, anchor, solver, budget, factor.get()).x;
     }
-    if (clean(contact, x)) return x;
+    if (clean(contact, crossings, x)) return x;
   }
   return std::nullopt;
 }
