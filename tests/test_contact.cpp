@@ -121,25 +121,99 @@ TEST(Contact, StepBoundStopsARigidMoveBeforeTheLayer) {
 }
 
 // A step the candidates do not cover searches them again around its end,
-// so that they also cover the next step of the same length: steps of the
-// fast solver's longest move search once every second step.
-TEST(Contact, CandidatesSearchedAtAStepsEndLastForTheNextStep) {
+// so that they also cover the next steps. What uses them up is how far the
+// vertices' displacements since the search spread (0, the fixed vertices',
+// included): moving as a whole in one direction, three steps of the fast
+// solver's longest move take one search; moving apart, two.
+TEST(Contact, CandidatesLastWhileTheDisplacementsSpreadLessThanTheSkin) {
   const Crumpling problem;
-  const PatchContact contact(problem.domain, layer_above(problem.domain, problem.top + 1), {});
   const Eigen::VectorXd x = problem.energy.variables(problem.start);
-  Eigen::VectorXd side = Eigen::VectorXd::Zero(x.size());
-  for (Eigen::Index k = 0; k < side.size(); k += 3) side[k] = SolverOptions{}.max_displacement;
-  EXPECT_EQ(contact.candidate_searches(), 0);
-  EXPECT_EQ(contact.step_bound(x, side), 1.0);
-  EXPECT_EQ(contact.candidate_searches(), 1);
-  EXPECT_EQ(contact.step_bound(x + side, side), 1.0);
-  EXPECT_TRUE(std::isfinite(contact.evaluate(x + 2 * side, nullptr)));
-  EXPECT_EQ(contact.candidate_searches(), 1);
-  EXPECT_EQ(contact.step_bound(x + 2 * side, side), 1.0);
-  EXPECT_EQ(contact.candidate_searches(), 2);
-  // Back to where they were searched: covered.
-  EXPECT_EQ(contact.step_bound(x + 3 * side, -side), 1.0);
-  EXPECT_EQ(contact.candidate_searches(), 2);
+  const double longest = SolverOptions{}.max_displacement;
+  {
+    const PatchContact contact(problem.domain, layer_above(problem.domain, problem.top + 1), {});
+    Eigen::VectorXd side = Eigen::VectorXd::Zero(x.size());
+    for (Eigen::Index k = 0; k < side.size(); k += 3) side[k] = longest;
+    EXPECT_EQ(contact.candidate_searches(), 0);
+    EXPECT_EQ(contact.step_bound(x, side), 1.0);  // searched at x + side
+    EXPECT_EQ(contact.candidate_searches(), 1);
+    EXPECT_EQ(contact.step_bound(x + side, side), 1.0);
+    EXPECT_TRUE(std::isfinite(contact.evaluate(x + 2 * side, nullptr)));
+    EXPECT_EQ(contact.step_bound(x + 2 * side, side), 1.0);
+    EXPECT_EQ(contact.candidate_searches(), 1);
+    EXPECT_EQ(contact.step_bound(x + 3 * side, side), 1.0);  // 3 x longest > the skin
+    EXPECT_EQ(contact.candidate_searches(), 2);
+    // Back towards where they were searched: covered.
+    EXPECT_EQ(contact.step_bound(x + 4 * side, -side), 1.0);
+    EXPECT_EQ(contact.candidate_searches(), 2);
+  }
+  {
+    const PatchContact contact(problem.domain, layer_above(problem.domain, problem.top + 1), {});
+    // The halves either side of the patch's middle move apart.
+    double middle = 0;
+    for (Eigen::Index k = 0; k < x.size(); k += 3) middle += x[k] / (x.size() / 3);
+    Eigen::VectorXd apart = Eigen::VectorXd::Zero(x.size());
+    for (Eigen::Index k = 0; k < apart.size(); k += 3) apart[k] = x[k] > middle ? longest : -longest;
+    EXPECT_EQ(contact.step_bound(x, apart), 1.0);
+    EXPECT_EQ(contact.step_bound(x + apart, apart), 1.0);
+    EXPECT_EQ(contact.candidate_searches(), 1);
+    EXPECT_EQ(contact.step_bound(x + 2 * apart, apart), 1.0);
+    EXPECT_EQ(contact.candidate_searches(), 2);
+  }
+}
+
+// Candidates kept from an earlier search give the barrier and its gradient
+// that a contact searching afresh at every point gives, bit for bit, and
+// steps bounded by them cross nothing: along a walk of random steps (vertices moving each their own way, and
+// the whole patch drifting towards the layer above and a sphere beside it).
+TEST(Contact, KeptCandidatesGiveWhatAFreshSearchGives) {
+  const Crumpling problem;
+  const PatchScene layer = layer_above(problem.domain, problem.top + 0.3);
+  // A sphere 0.15 beyond the patch's rightmost vertex, level with it.
+  const Vec3* right = &problem.start.back();
+  for (const Vec3& p : problem.start)
+    if (p[0] > (*right)[0]) right = &p;
+  Obstacle sphere;
+  sphere.type = Obstacle::Type::Sphere;
+  sphere.radius = 0.5;
+  sphere.center = {(*right)[0] + 0.15 + sphere.radius, (*right)[1], (*right)[2]};
+  const PatchContact sphere_alone(problem.domain, PatchScene{}, {}, {sphere});
+  const PatchContact kept(problem.domain, layer, {}, {sphere});
+  Eigen::VectorXd x = problem.energy.variables(problem.start);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double longest = SolverOptions{}.max_displacement;
+  int compared = 0, touching = 0;
+  for (int step = 0; step < 60; ++step) {
+    Eigen::VectorXd dx(x.size());
+    if (kept.min_distance(x, 1.0) < 0.3 * kept.options().thickness) {
+      // Too near: down the barrier, as a minimisation would go.
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+      kept.evaluate(x, &g);
+      double largest = 0;
+      for (Eigen::Index k = 0; k < g.size(); k += 3) largest = std::max(largest, g.segment<3>(k).norm());
+      dx = -0.5 * longest / largest * g;
+    } else {
+      for (Eigen::Index k = 0; k < dx.size(); ++k) dx[k] = 0.25 * longest * unit(random);
+      for (Eigen::Index k = 0; k < dx.size(); k += 3) {
+        dx[k] += 0.5 * longest;      // towards the sphere
+        dx[k + 2] += 0.1 * longest;  // and up to the layer
+      }
+    }
+    const double bound = kept.step_bound(x, dx);
+    ASSERT_GT(bound, 0) << "step " << step;
+    x += 0.9 * bound * dx;
+    ASSERT_EQ(crossings(problem.domain, kept, x), 0) << "step " << step;
+    const PatchContact fresh_there(problem.domain, layer, {}, {sphere});
+    Eigen::VectorXd g_kept = Eigen::VectorXd::Zero(x.size()), g_fresh = g_kept;
+    const double e_kept = kept.evaluate(x, &g_kept), e_fresh = fresh_there.evaluate(x, &g_fresh);
+    ASSERT_EQ(e_kept, e_fresh) << "step " << step;
+    ASSERT_TRUE(g_kept == g_fresh) << "step " << step;
+    ++compared;
+    touching += sphere_alone.evaluate(x, nullptr) > 0;
+  }
+  EXPECT_EQ(compared, 60);
+  EXPECT_GT(touching, 10) << "the walk never came near the sphere";
+  EXPECT_LT(kept.candidate_searches(), 40) << "the candidates were never kept";
 }
 
 // A floppy patch crumpling under a layer a little above its start: without

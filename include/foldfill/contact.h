@@ -106,8 +106,10 @@ class PatchContact {
 
   // The barrier and the step bound of the patch's faces against the
   // analytic obstacles (added to `value` and to `gradient` when non-null).
+  // The barrier takes the faces of obstacle_candidates_; the step bound too
+  // when `candidates_cover` (gather held for the step), every face otherwise.
   double obstacle_barrier(double* gradient) const;
-  double obstacle_step_bound(double t_max) const;
+  double obstacle_step_bound(double t_max, bool candidates_cover) const;
 
   ContactOptions options_;
   std::vector<Obstacle> obstacles_;
@@ -118,6 +120,9 @@ class PatchContact {
   // Candidates near the anchor, their distances there, and those a call uses.
   mutable CollisionCandidates candidates_, active_;
   mutable std::vector<double> point_triangle_distance_, edge_edge_distance_;
+  // (patch face, obstacle) pairs nearer than thickness + skin at the anchor,
+  // in order: the others stay farther than the thickness while gather holds.
+  mutable std::vector<std::array<int, 2>> obstacle_candidates_;
   mutable bool has_candidates_ = false;
   mutable int candidate_searches_ = 0;
 };

@@ -45,6 +45,37 @@ std::vector<double> fixed_points(const EmbedDomain& domain, const PatchScene& sc
   return points;
 }
 
+// A lower bound on triangle_obstacle_distance over the triangle abc. The
+// signed distance to a sphere or a capsule is convex (a plane's is linear),
+// so it lies above its tangent plane at the centroid, whose least value on
+// the triangle is at a corner. Faces lying along the obstacle's surface, as
+// draped cloth does, get a bound close to their distance.
+double face_obstacle_lower_bound(const Obstacle& o, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const auto height = [&](const Vec3& p, const Vec3& direction, const Vec3& origin) {
+    return (p[0] - origin[0]) * direction[0] + (p[1] - origin[1]) * direction[1] +
+           (p[2] - origin[2]) * direction[2];
+  };
+  if (o.type == Obstacle::Type::Plane)
+    return std::min({height(a, o.normal, o.center), height(b, o.normal, o.center),
+                     height(c, o.normal, o.center)});
+  Vec3 centre, d;
+  for (int k = 0; k < 3; ++k) centre[k] = (a[k] + b[k] + c[k]) / 3;
+  if (o.type == Obstacle::Type::Cylinder) {
+    double t = height(centre, o.axis, o.center);
+    t = std::clamp(t, -0.5 * o.height, 0.5 * o.height);
+    for (int k = 0; k < 3; ++k) d[k] = centre[k] - (o.center[k] + t * o.axis[k]);
+  } else {
+    for (int k = 0; k < 3; ++k) d[k] = centre[k] - o.center[k];
+  }
+  const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  // On the axis (or not finite): the least the signed distance is anywhere.
+  if (!(length > 0) || !std::isfinite(length)) return -o.radius;
+  const Vec3 normal{d[0] / length, d[1] / length, d[2] / length};
+  return length - o.radius +
+         std::min({height(a, normal, centre), height(b, normal, centre),
+                   height(c, normal, centre)});
+}
+
 void check_options(const ContactOptions& options) {
   const auto positive = [](double w) { return std::isfinite(w) && w > 0; };
   if (!positive(options.thickness) || !positive(options.stiffness) || !positive(options.skin))
@@ -116,6 +147,14 @@ void PatchContact::refresh_candidates() const {
     edge_edge_distance_.push_back(d);
   }
   candidates_.edge_edge.resize(kept);
+  obstacle_candidates_.clear();
+  for (int f = first_patch_face_; f < end_patch_face_; ++f) {
+    const Tri& t = m.faces[f];
+    for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
+      if (!(face_obstacle_lower_bound(obstacles_[o], point(t[0]), point(t[1]), point(t[2])) >=
+            reach))
+        obstacle_candidates_.push_back({f, o});
+  }
   anchor_ = points_;
   has_candidates_ = true;
   ++candidate_searches_;
@@ -133,22 +172,48 @@ void PatchContact::select_candidates(double distance) const {
 }
 
 // A pair that is not among the candidates was at least thickness + skin
-// apart at the anchor, and can since have come closer by at most twice the
-// largest distance of a free vertex from its anchor position: at the current
-// points, or anywhere along the step `move` (at its start or its end, the
-// distance to a point being convex along a segment).
+// apart at the anchor. Since then, each vertex has moved by its displacement
+// from the anchor (0 for the fixed ones), and the pair can have come closer
+// by at most the largest difference between the displacements of its
+// corners: at most the diameter of the set of displacements, 0 included,
+// at the current points or anywhere along the step `move` (at its start or
+// its end, a difference of displacements being convex along the step). That
+// diameter is bounded by twice the largest displacement and by twice the
+// radius of the set about the centre of its box, whichever is less: about
+// one largest displacement where the patch moves in one direction (a bulge
+// rising, a fold sliding), instead of two.
 bool PatchContact::gather(double distance, const double* move) const {
   if (!has_candidates_) return false;
+  const size_t first = 3 * static_cast<size_t>(fixed_count_);
   double drift = 0;
-  for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
+  double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
+  const auto add = [&](double x, double y, double z) {
+    drift = std::max(drift, x * x + y * y + z * z);
+    low[0] = std::min(low[0], x), high[0] = std::max(high[0], x);
+    low[1] = std::min(low[1], y), high[1] = std::max(high[1], y);
+    low[2] = std::min(low[2], z), high[2] = std::max(high[2], z);
+  };
+  for (size_t k = first; k < points_.size(); k += 3) {
     const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
                  dz = points_[k + 2] - anchor_[k + 2];
-    drift = std::max(drift, dx * dx + dy * dy + dz * dz);
-    if (!move) continue;
-    const double ex = dx + move[k], ey = dy + move[k + 1], ez = dz + move[k + 2];
-    drift = std::max(drift, ex * ex + ey * ey + ez * ez);
+    add(dx, dy, dz);
+    if (move) add(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
   }
-  const double closer = 2 * std::sqrt(drift);
+  const double centre[3] = {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]),
+                            0.5 * (low[2] + high[2])};
+  // The fixed vertices' displacement, 0, is in the set.
+  double radius = centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2];
+  const auto reach_out = [&](double x, double y, double z) {
+    x -= centre[0], y -= centre[1], z -= centre[2];
+    radius = std::max(radius, x * x + y * y + z * z);
+  };
+  for (size_t k = first; k < points_.size(); k += 3) {
+    const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
+                 dz = points_[k + 2] - anchor_[k + 2];
+    reach_out(dx, dy, dz);
+    if (move) reach_out(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
+  }
+  const double closer = 2 * std::sqrt(std::min(drift, radius));
   if (!(distance + closer < options_.thickness + options_.skin)) return false;
   select_candidates(distance + closer);
   return true;
@@ -183,58 +248,21 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
             displacement_.begin() + static_cast<std::ptrdiff_t>(offset));
   // The pairs that may meet during the step: the candidates' (gather), or,
   // for a step too long for them even when fresh, those of the swept boxes.
-  if (!gather(0.0, displacement_.data())) {
+  bool covered = gather(0.0, displacement_.data());
+  if (!covered) {
     // Fresh candidates around the step's end: every point of the step is
     // within its move of there, and the next step starts there (most steps
     // are taken whole), so that they last for it as well.
     for (size_t k = offset; k < points_.size(); ++k) points_[k] += displacement_[k];
     refresh_candidates();
     place(x);
-    if (!gather(0.0, displacement_.data()))
-      broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
+    covered = gather(0.0, displacement_.data());
+    if (!covered) broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
   }
   const double bound =
       collision_step_bound(mesh(), points_.data(), displacement_.data(), active_, options_.ccd);
-  return obstacle_step_bound(bound);
+  return obstacle_step_bound(bound, covered);
 }
-
-namespace {
-
-// A lower bound on triangle_obstacle_distance for a face whose corners all
-// lie within `radius` of `centre`: the centre's own distance less the radius
-// (the distance to a sphere, a capsule or a plane is 1-Lipschitz).
-double lower_bound(const Obstacle& o, const Vec3& centre, double radius) {
-  Vec3 d;
-  switch (o.type) {
-    case Obstacle::Type::Plane: {
-      double s = 0;
-      for (int c = 0; c < 3; ++c) s += (centre[c] - o.center[c]) * o.normal[c];
-      return s - radius;
-    }
-    case Obstacle::Type::Cylinder: {
-      double t = 0;
-      for (int c = 0; c < 3; ++c) t += (centre[c] - o.center[c]) * o.axis[c];
-      t = std::clamp(t, -0.5 * o.height, 0.5 * o.height);
-      for (int c = 0; c < 3; ++c) d[c] = centre[c] - (o.center[c] + t * o.axis[c]);
-      break;
-    }
-    default:
-      for (int c = 0; c < 3; ++c) d[c] = centre[c] - o.center[c];
-  }
-  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - o.radius - radius;
-}
-
-// The centroid of a triangle and the largest distance from it to a corner.
-double bounding_ball(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& centre) {
-  for (int k = 0; k < 3; ++k) centre[k] = (a[k] + b[k] + c[k]) / 3;
-  const auto squared = [&](const Vec3& p) {
-    const double x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
-    return x * x + y * y + z * z;
-  };
-  return std::sqrt(std::max({squared(a), squared(b), squared(c)}));
-}
-
-}  // namespace
 
 double PatchContact::obstacle_barrier(double* gradient) const {
   if (obstacles_.empty()) return 0;
@@ -243,31 +271,28 @@ double PatchContact::obstacle_barrier(double* gradient) const {
   const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   double sum = 0;
   std::array<Vec3, 3> g;
-  for (int f = first_patch_face_; f < end_patch_face_; ++f) {
+  for (const auto& [f, obstacle] : obstacle_candidates_) {
     const Tri& t = m.faces[f];
+    const Obstacle& o = obstacles_[obstacle];
     const Vec3 a = point(t[0]), b = point(t[1]), c = point(t[2]);
-    Vec3 centre;
-    const double radius = bounding_ball(a, b, c, centre);
-    for (const Obstacle& o : obstacles_) {
-      if (lower_bound(o, centre, radius) >= options_.thickness) continue;
-      const double d = triangle_obstacle_distance(o, a, b, c, gradient ? &g : nullptr);
-      if (!(d < options_.thickness)) continue;
-      double derivative = 0;
-      const double value = barrier(d, options_.thickness, gradient ? &derivative : nullptr);
-      if (!std::isfinite(value)) return value;
-      sum += options_.stiffness * value;
-      if (!gradient) continue;
-      for (int k = 0; k < 3; ++k) {
-        if (t[k] < fixed_count_) continue;
-        for (int c2 = 0; c2 < 3; ++c2)
-          gradient[3 * t[k] + c2] += options_.stiffness * derivative * g[k][c2];
-      }
+    if (face_obstacle_lower_bound(o, a, b, c) >= options_.thickness) continue;
+    const double d = triangle_obstacle_distance(o, a, b, c, gradient ? &g : nullptr);
+    if (!(d < options_.thickness)) continue;
+    double derivative = 0;
+    const double value = barrier(d, options_.thickness, gradient ? &derivative : nullptr);
+    if (!std::isfinite(value)) return value;
+    sum += options_.stiffness * value;
+    if (!gradient) continue;
+    for (int k = 0; k < 3; ++k) {
+      if (t[k] < fixed_count_) continue;
+      for (int c2 = 0; c2 < 3; ++c2)
+        gradient[3 * t[k] + c2] += options_.stiffness * derivative * g[k][c2];
     }
   }
   return sum;
 }
 
-double PatchContact::obstacle_step_bound(double t_max) const {
+double PatchContact::obstacle_step_bound(double t_max, bool candidates_cover) const {
   if (obstacles_.empty()) return t_max;
   const CollisionMesh& m = mesh();
   const double* p = points_.data();
@@ -276,23 +301,28 @@ double PatchContact::obstacle_step_bound(double t_max) const {
     return Vec3{q[3 * v], q[3 * v + 1], q[3 * v + 2]};
   };
   CcdOptions ccd = options_.ccd;
-  for (int f = first_patch_face_; f < end_patch_face_ && t_max > 0; ++f) {
+  const auto bound_face = [&](int f, const Obstacle& o) {
     const Tri& t = m.faces[f];
     const Vec3 a = point(p, t[0]), b = point(p, t[1]), c = point(p, t[2]);
     const Vec3 da = point(d, t[0]), db = point(d, t[1]), dc = point(d, t[2]);
     const double move = std::sqrt(std::max({da[0] * da[0] + da[1] * da[1] + da[2] * da[2],
                                             db[0] * db[0] + db[1] * db[1] + db[2] * db[2],
                                             dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]}));
-    Vec3 centre;
-    const double radius = bounding_ball(a, b, c, centre);
-    for (const Obstacle& o : obstacles_) {
-      // A face that cannot reach the obstacle within t_max: its distance
-      // falls by at most its largest corner's move.
-      if (lower_bound(o, centre, radius) > move * t_max) continue;
-      ccd.t_max = t_max;
-      t_max = triangle_obstacle_ccd(o, a, b, c, da, db, dc, ccd);
+    // A face that cannot reach the obstacle within t_max: its distance
+    // falls by at most its largest corner's move.
+    if (face_obstacle_lower_bound(o, a, b, c) > move * t_max) return;
+    ccd.t_max = t_max;
+    t_max = triangle_obstacle_ccd(o, a, b, c, da, db, dc, ccd);
+  };
+  if (candidates_cover) {
+    for (const auto& [f, o] : obstacle_candidates_) {
+      if (!(t_max > 0)) break;
+      bound_face(f, obstacles_[o]);
     }
+    return t_max;
   }
+  for (int f = first_patch_face_; f < end_patch_face_ && t_max > 0; ++f)
+    for (const Obstacle& o : obstacles_) bound_face(f, o);
   return t_max;
 }
 
