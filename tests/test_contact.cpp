@@ -152,7 +152,8 @@ TEST(Contact, CandidatesLastWhileTheDisplacementsSpreadLessThanTheSkin) {
     double middle = 0;
     for (Eigen::Index k = 0; k < x.size(); k += 3) middle += x[k] / (x.size() / 3);
     Eigen::VectorXd apart = Eigen::VectorXd::Zero(x.size());
-    for (Eigen::Index k = 0; k < apart.size(); k += 3) apart[k] = x[k] > middle ? longest : -longest;
+    for (Eigen::Index k = 0; k < apart.size(); k += 3)
+      apart[k] = x[k] > middle ? longest : -longest;
     EXPECT_EQ(contact.step_bound(x, apart), 1.0);
     EXPECT_EQ(contact.step_bound(x + apart, apart), 1.0);
     EXPECT_EQ(contact.candidate_searches(), 1);
@@ -163,8 +164,8 @@ TEST(Contact, CandidatesLastWhileTheDisplacementsSpreadLessThanTheSkin) {
 
 // Candidates kept from an earlier search give the barrier and its gradient
 // that a contact searching afresh at every point gives, bit for bit, and
-// steps bounded by them cross nothing: along a walk of random steps (vertices moving each their own way, and
-// the whole patch drifting towards the layer above and a sphere beside it).
+// steps bounded by them cross nothing: along a walk of random steps (vertices moving each their own
+// way, and the whole patch drifting towards the layer above and a sphere beside it).
 TEST(Contact, KeptCandidatesGiveWhatAFreshSearchGives) {
   const Crumpling problem;
   const PatchScene layer = layer_above(problem.domain, problem.top + 0.3);
@@ -190,7 +191,8 @@ TEST(Contact, KeptCandidatesGiveWhatAFreshSearchGives) {
       Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
       kept.evaluate(x, &g);
       double largest = 0;
-      for (Eigen::Index k = 0; k < g.size(); k += 3) largest = std::max(largest, g.segment<3>(k).norm());
+      for (Eigen::Index k = 0; k < g.size(); k += 3)
+        largest = std::max(largest, g.segment<3>(k).norm());
       dx = -0.5 * longest / largest * g;
     } else {
       for (Eigen::Index k = 0; k < dx.size(); ++k) dx[k] = 0.25 * longest * unit(random);

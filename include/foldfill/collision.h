@@ -246,9 +246,10 @@ class CollisionBroadPhase {
 // into contact on [0, t] along positions + t displacements (both 3 per vertex
 // of `mesh`): the minimum of the pairs' Additive CCD times of impact (see
 // point_triangle_ccd). The candidates must cover the step: found with the
-// displacements (swept boxes), or within a distance above twice the largest
-// displacement (a pair's distance falls at most by the moves of its two
-// primitives). Fixed vertices' displacements are ignored. t_max for no pair.
+// displacements (swept boxes), or within a distance above the largest
+// difference between two vertices' displacements, 0 included (a pair's
+// distance falls at most by the largest difference of its corners' moves).
+// Fixed vertices' displacements are ignored. t_max for no pair.
 // In parallel; the result does not depend on the thread count.
 double collision_step_bound(const CollisionMesh& mesh, const double* positions,
                             const double* displacements, const CollisionCandidates& candidates,

@@ -27,15 +27,18 @@ struct ContactOptions {
   double thickness = 0.1;
   // Weight of the barrier relative to the isometric term.
   double stiffness = 1;
-  // Candidate pairs are searched within thickness + skin and kept while no
-  // vertex has moved more than skin / 2 from where they were searched (for
-  // the barrier), or while no vertex comes farther than (thickness + skin) / 2
-  // from there during a step (for the step bound; a step they do not cover
-  // searches them again around its end, where the next step starts);
-  // normalised. The default is a little over twice the fast solver's longest
-  // move (SolverOptions::max_displacement, 0.2): the least that lets fresh
-  // candidates last for two such steps in a row, and the fewer pairs the
-  // cheaper each search.
+  // Candidate pairs, and the patch faces near each analytic obstacle, are
+  // searched within thickness + skin and kept while they must still hold
+  // every pair closer than the thickness (for the barrier) or that can touch
+  // during a step (for the step bound): a pair comes closer by at most the
+  // largest difference between its corners' displacements since the search,
+  // so they last while those displacements (0, the fixed vertices', among
+  // them) spread over less than the skin, or over less than thickness + skin
+  // along the step. A step they do not cover searches them again at its end,
+  // where the next step starts. Normalised. The default is a little over
+  // twice the fast solver's longest move (SolverOptions::max_displacement,
+  // 0.2): fresh candidates last for two such steps in a row, more where the
+  // patch moves in one direction, and the fewer pairs the cheaper a search.
   double skin = 0.45;
   CcdOptions ccd;
 };

@@ -72,8 +72,8 @@ double face_obstacle_lower_bound(const Obstacle& o, const Vec3& a, const Vec3& b
   if (!(length > 0) || !std::isfinite(length)) return -o.radius;
   const Vec3 normal{d[0] / length, d[1] / length, d[2] / length};
   return length - o.radius +
-         std::min({height(a, normal, centre), height(b, normal, centre),
-                   height(c, normal, centre)});
+         std::min(
+             {height(a, normal, centre), height(b, normal, centre), height(c, normal, centre)});
 }
 
 void check_options(const ContactOptions& options) {
