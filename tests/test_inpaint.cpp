@@ -629,5 +629,25 @@ TEST(Inpaint, AStartLyingOnTheClothIsNotClean) {
   }
 }
 
+// Where no start crosses nothing and every fallback crosses something too,
+// the fabric fill is minimised unguarded from the start its first attempt
+// found: the same patch as with the fallbacks off.
+TEST(Inpaint, AFabricFillDeferredPastTheFallbacksIsTheUnguardedOne) {
+  const Mesh mesh = sheet_over_a_spike(1);
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
+  FillOptions options;
+  options.start.untangle.rounds = 0;
+  const FillResult deferred = fill_holes(mesh, loops, {loops[hole].id}, options);
+  options.fallback.enabled = false;
+  const FillResult direct = fill_holes(mesh, loops, {loops[hole].id}, options);
+  const HoleReport& report = deferred.report.holes.at(0);
+  EXPECT_EQ(report.method, FillMethod::Fabric);
+  EXPECT_EQ(report.start, StartKind::Unguarded);
+  EXPECT_EQ(report.fallback_reasons.size(), 4u);
+  EXPECT_TRUE(deferred.mesh.positions == direct.mesh.positions);
+  EXPECT_TRUE(deferred.mesh.faces == direct.mesh.faces);
+}
+
 }  // namespace
 }  // namespace foldfill

@@ -184,35 +184,32 @@ void PatchContact::select_candidates(double distance) const {
 // rising, a fold sliding), instead of two.
 bool PatchContact::gather(double distance, const double* move) const {
   if (!has_candidates_) return false;
-  const size_t first = 3 * static_cast<size_t>(fixed_count_);
+  // Calls visit(dx, dy, dz) for each free vertex's displacement, and with
+  // `move` for its displacement at the step's end too.
+  const auto for_each_displacement = [&](const auto& visit) {
+    for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
+      const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
+                   dz = points_[k + 2] - anchor_[k + 2];
+      visit(dx, dy, dz);
+      if (move) visit(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
+    }
+  };
   double drift = 0;
   double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
-  const auto add = [&](double x, double y, double z) {
+  for_each_displacement([&](double x, double y, double z) {
     drift = std::max(drift, x * x + y * y + z * z);
     low[0] = std::min(low[0], x), high[0] = std::max(high[0], x);
     low[1] = std::min(low[1], y), high[1] = std::max(high[1], y);
     low[2] = std::min(low[2], z), high[2] = std::max(high[2], z);
-  };
-  for (size_t k = first; k < points_.size(); k += 3) {
-    const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
-                 dz = points_[k + 2] - anchor_[k + 2];
-    add(dx, dy, dz);
-    if (move) add(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
-  }
+  });
   const double centre[3] = {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]),
                             0.5 * (low[2] + high[2])};
   // The fixed vertices' displacement, 0, is in the set.
   double radius = centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2];
-  const auto reach_out = [&](double x, double y, double z) {
+  for_each_displacement([&](double x, double y, double z) {
     x -= centre[0], y -= centre[1], z -= centre[2];
     radius = std::max(radius, x * x + y * y + z * z);
-  };
-  for (size_t k = first; k < points_.size(); k += 3) {
-    const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
-                 dz = points_[k + 2] - anchor_[k + 2];
-    reach_out(dx, dy, dz);
-    if (move) reach_out(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
-  }
+  });
   const double closer = 2 * std::sqrt(std::min(drift, radius));
   if (!(distance + closer < options_.thickness + options_.skin)) return false;
   select_candidates(distance + closer);

@@ -574,16 +574,21 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
 // repaired one.
 // Thrown by fill_fabric, when told to, where no start that crosses nothing
 // was found: the chain tries the other steps before it minimises without the
-// guarantee.
+// guarantee, from `start` (the search for a clean one is not run again).
 struct NoCleanStart : FillFailedError {
-  explicit NoCleanStart(const std::string& where)
+  NoCleanStart(const std::string& where, std::vector<Vec3> unguarded_start)
       : FillFailedError(where +
                         ": no start that crosses nothing was found (the ARAP start and the "
-                        "membrane both cross something, and untangling did not clear them)") {}
+                        "membrane both cross something, and untangling did not clear them)"),
+        start(std::move(unguarded_start)) {}
+  std::vector<Vec3> start;  // the domain's positions the patch is minimised from unguarded
 };
 
+// `unguarded_start` (may be null): the start of an earlier call's NoCleanStart
+// for the same hole, minimised from without the guarantee.
 HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
-                      const Surroundings& around, HolePatch&& result, bool minimise_unguarded) {
+                      const Surroundings& around, HolePatch&& result, bool minimise_unguarded,
+                      const std::vector<Vec3>* unguarded_start = nullptr) {
   const FillOptions& options = context.options;
   HoleReport& report = result.report;
   const auto start = Clock::now();
@@ -623,8 +628,16 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   const PatchContact contact(domain, scene, options.contact, obstacles.analytic);
 
   // Start.
-  const Start initial =
-      place_start(context, plan, scene, obstacles, energy_options, solver, energy, contact, budget);
+  Start initial;
+  if (unguarded_start) {
+    if (static_cast<int>(unguarded_start->size()) != domain.vertex_count())
+      throw InternalError(where + ": an unguarded start of another domain");
+    initial.positions = *unguarded_start;
+    initial.kind = StartKind::Unguarded;
+  } else {
+    initial = place_start(context, plan, scene, obstacles, energy_options, solver, energy, contact,
+                          budget);
+  }
   report.start = initial.kind;
   report.start_blend = initial.blend;
   report.seconds.arap = seconds_since(stage);
@@ -633,7 +646,7 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   throw_if_cancelled(context, where);
   stage = Clock::now();
   const bool guarded = initial.kind != StartKind::Unguarded;
-  if (!guarded && !minimise_unguarded) throw NoCleanStart(where);
+  if (!guarded && !minimise_unguarded) throw NoCleanStart(where, std::move(initial.positions));
   const SolverResult solved =
       initial.kind == StartKind::CoarseLevels
           ? minimise(energy, &contact, initial.positions, solver, budget)
@@ -835,8 +848,9 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   // The first patch that crosses something, kept in case no later step's
   // patch crosses nothing.
   std::optional<HolePatch> crossing;
-  // Set when the fabric method found no start that crosses nothing.
-  bool fabric_deferred = false;
+  // Set when the fabric method found no start that crosses nothing: the
+  // start it is then minimised from, unguarded, if no later step does better.
+  std::optional<std::vector<Vec3>> fabric_deferred;
   for (size_t k = 0; k < steps.size(); ++k) {
     throw_if_cancelled(context, where);
     const bool last = k + 1 == steps.size();
@@ -874,7 +888,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
       patch.report.fallback_reasons = reasons;
       return patch;
     } catch (const NoCleanStart& e) {
-      fabric_deferred = true;
+      fabric_deferred = e.start;
       take_reasons(patch.report);
       passed(patch.report.method, e.what());
     } catch (const Error& e) {
@@ -892,7 +906,8 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   // guarantee, where it came before the patches that cross.
   if (fabric_deferred && (!crossing || steps.front() == FillMethod::Fabric)) {
     try {
-      HolePatch patch = fill_fabric(context, loop, around, HolePatch(blank), true);
+      HolePatch patch =
+          fill_fabric(context, loop, around, HolePatch(blank), true, &*fabric_deferred);
       patch.report.fallback_reasons.clear();
       patch.report.patch_min_angle_deg = patch_min_angle(context.mesh, patch);
       crossing = std::move(patch);

@@ -119,6 +119,24 @@ void add_point_gradient(const CurvePoint& point, const Vec3& g, int fixed_count,
   for (int k = 0; k < 3; ++k) add(point.face[k], scaled(n, point.b[k] * across));
 }
 
+// crossing_curve_length at the collision-mesh positions `p`.
+double curve_length(const std::vector<Vec3>& p, const CollisionMesh& mesh,
+                    const std::vector<std::pair<int, int>>& pairs, Eigen::VectorXd* gradient) {
+  double length = 0;
+  std::array<CurvePoint, 2> ends;
+  for (const auto& [f, g] : pairs) {
+    if (!crossing_segment(p, mesh.faces[f], mesh.faces[g], ends)) continue;
+    const Vec3 along = sub(ends[0].at, ends[1].at);
+    const double l = norm(along);
+    length += l;
+    if (!gradient) continue;
+    const Vec3 u = scaled(along, 1 / l);
+    add_point_gradient(ends[0], u, mesh.fixed_count, *gradient);
+    add_point_gradient(ends[1], scaled(u, -1), mesh.fixed_count, *gradient);
+  }
+  return length;
+}
+
 // `weight` times the crossing curves' length of a fixed list of face pairs,
 // plus (x - anchor)^T P (x - anchor) / 2 with P the fabric energy's
 // preconditioner (an elastic operator over the free vertices): the curves'
@@ -129,7 +147,12 @@ class CrossingCurveObjective final : public Objective {
   CrossingCurveObjective(const PatchContact& contact, const std::vector<std::pair<int, int>>& pairs,
                          double weight, const Eigen::SparseMatrix<double>& stiffness,
                          const Eigen::VectorXd& anchor)
-      : contact_(contact), pairs_(pairs), weight_(weight), stiffness_(stiffness), anchor_(anchor) {}
+      : contact_(contact),
+        pairs_(pairs),
+        weight_(weight),
+        stiffness_(stiffness),
+        anchor_(anchor),
+        points_(contact.positions(anchor)) {}
   Eigen::Index size() const override { return anchor_.size(); }
   double value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const override {
     const Eigen::Index n = stiffness_.rows();
@@ -143,9 +166,14 @@ class CrossingCurveObjective final : public Objective {
       if (gradient)
         for (Eigen::Index v = 0; v < n; ++v) (*gradient)[3 * v + c] = pd[v];
     }
-    if (!gradient) return elastic + weight_ * crossing_curve_length(contact_, pairs_, x, nullptr);
+    // The fixed vertices stay where the anchor's positions put them.
+    const size_t fixed = static_cast<size_t>(contact_.mesh().fixed_count);
+    for (size_t v = fixed; v < points_.size(); ++v)
+      for (int c = 0; c < 3; ++c) points_[v][c] = x[3 * static_cast<Eigen::Index>(v - fixed) + c];
+    if (!gradient)
+      return elastic + weight_ * curve_length(points_, contact_.mesh(), pairs_, nullptr);
     Eigen::VectorXd curve = Eigen::VectorXd::Zero(x.size());
-    const double length = crossing_curve_length(contact_, pairs_, x, &curve);
+    const double length = curve_length(points_, contact_.mesh(), pairs_, &curve);
     *gradient += weight_ * curve;
     return elastic + weight_ * length;
   }
@@ -157,6 +185,7 @@ class CrossingCurveObjective final : public Objective {
   double weight_;
   const Eigen::SparseMatrix<double>& stiffness_;
   const Eigen::VectorXd& anchor_;
+  mutable std::vector<Vec3> points_;  // all collision-mesh positions, the free ones from x
 };
 
 MovingFaceCrossings patch_crossings(const PatchContact& contact, const Eigen::VectorXd& x) {
@@ -175,21 +204,7 @@ bool clean(const PatchContact& contact, const MovingFaceCrossings& crossings,
 double crossing_curve_length(const PatchContact& contact,
                              const std::vector<std::pair<int, int>>& pairs,
                              const Eigen::VectorXd& x, Eigen::VectorXd* gradient) {
-  const std::vector<Vec3> p = contact.positions(x);
-  const CollisionMesh& mesh = contact.mesh();
-  double length = 0;
-  std::array<CurvePoint, 2> ends;
-  for (const auto& [f, g] : pairs) {
-    if (!crossing_segment(p, mesh.faces[f], mesh.faces[g], ends)) continue;
-    const Vec3 along = sub(ends[0].at, ends[1].at);
-    const double l = norm(along);
-    length += l;
-    if (!gradient) continue;
-    const Vec3 u = scaled(along, 1 / l);
-    add_point_gradient(ends[0], u, mesh.fixed_count, *gradient);
-    add_point_gradient(ends[1], scaled(u, -1), mesh.fixed_count, *gradient);
-  }
-  return length;
+  return curve_length(contact.positions(x), contact.mesh(), pairs, gradient);
 }
 
 std::vector<std::pair<int, int>> crossing_pairs(const PatchContact& contact,
