@@ -119,12 +119,12 @@ TEST(Solver, FastReachesTheGradientDescentEnergyInFarFewerIterations) {
 // for, measured against the energy it reaches with the rule a hundred times
 // stricter: gradient descent, whose last steps are tiny, within 1e-5 (its
 // rule's 3e-7 to 9e-6 on the reference cases, see solver.cpp), the fast
-// solver within 1e-6.
+// solver within 1e-5.
 TEST(Solver, EachMethodStopsCloseToItsMinimum) {
   const struct {
     SolverKind kind;
     double own_tolerance, accuracy;
-  } methods[] = {{SolverKind::GradientDescent, 1e-9, 1e-5}, {SolverKind::Fast, 1e-5, 1e-6}};
+  } methods[] = {{SolverKind::GradientDescent, 1e-9, 1e-5}, {SolverKind::Fast, 1e-4, 1e-5}};
   for (const Problem& problem : {Problem(12, 12), Problem(12, 9, crumpled)}) {
     for (const auto& method : methods) {
       SolverOptions options = with_kind(method.kind);

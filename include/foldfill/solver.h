@@ -57,7 +57,7 @@ struct SolverOptions {
   // fraction of the energy, on average over the last stop_window iterations:
   // when its highest and lowest values there are less than stop_window times
   // this times E apart (unset: the method's own, 1e-9 for gradient descent,
-  // 1e-5 for Fast; see docs/benchmarks.md) ...
+  // 1e-4 for Fast; see docs/benchmarks.md) ...
   std::optional<double> relative_energy_tol;
   int stop_window = 10;           // iterations (at least 1)
   double gradient_tol = 1e-6;     // ... or when the RMS gradient per vertex falls below this
