@@ -120,24 +120,52 @@ TEST(Untangle, ASpikeThroughTheFlatPatchEndsUnderIt) {
   EXPECT_GT(highest(energy.positions(*untangled)), tip);
 }
 
-TEST(Untangle, ABumpyPatchThroughALayerEndsBelowIt) {
-  // The strip lies at z = 0 and the layer at 0.25 over all of it: the patch's
-  // bumps pass through the layer and must come back under it.
-  const EmbedDomain domain = testing::lattice_domain(16, 14, [](const Vec2& uv) {
+// A flat strip at z = 0 whose patch's bumps pass through a layer at 0.25
+// over all of it.
+struct BumpyPatch {
+  static constexpr double kLayer = 0.25;
+  EmbedDomain domain = testing::lattice_domain(16, 14, [](const Vec2& uv) {
     return Vec3{0.8 * uv[0], 0.8 * uv[1], 0};
   });
-  const FabricEnergy energy(domain, weights());
-  std::vector<Vec3> start = arap_embed(domain, {0.5, 30});
-  for (int v = domain.fixed_count; v < domain.vertex_count(); ++v)
-    start[v][2] = 0.6 * std::sin(start[v][0]) * std::sin(start[v][1]);
-  const double layer = 0.25;
-  const PatchContact contact(domain, layer_at(domain, layer), {});
-  const Eigen::VectorXd x = energy.variables(start);
+  FabricEnergy energy{domain, weights()};
+  PatchContact contact{domain, layer_at(domain, kLayer), {}};
+  Eigen::VectorXd start() const {
+    std::vector<Vec3> positions = arap_embed(domain, {0.5, 30});
+    for (int v = domain.fixed_count; v < domain.vertex_count(); ++v)
+      positions[v][2] = 0.6 * std::sin(positions[v][0]) * std::sin(positions[v][1]);
+    return energy.variables(positions);
+  }
+};
+
+TEST(Untangle, ABumpyPatchThroughALayerEndsBelowIt) {
+  // The bumps must come back under the layer.
+  const BumpyPatch patch;
+  const FabricEnergy& energy = patch.energy;
+  const PatchContact& contact = patch.contact;
+  const double layer = BumpyPatch::kLayer;
+  const Eigen::VectorXd x = patch.start();
   ASSERT_GT(crossing_pairs(contact, x).size(), 10u) << "the case does not test anything";
   const std::optional<Eigen::VectorXd> untangled = untangle(energy, contact, x, {}, {});
   ASSERT_TRUE(untangled.has_value());
   EXPECT_TRUE(crossing_pairs(contact, *untangled).empty());
   EXPECT_LT(highest(energy.positions(*untangled)), layer);
+}
+
+// Each round's minimisation stops on the untangling's own tolerance
+// (UntangleOptions::relative_energy_tol), not on the fill solver's default:
+// a looser one cuts the rounds short and the patch ends elsewhere.
+TEST(Untangle, ARoundStopsOnItsOwnTolerance) {
+  const BumpyPatch patch;
+  const FabricEnergy& energy = patch.energy;
+  const PatchContact& contact = patch.contact;
+  const Eigen::VectorXd x = patch.start();
+  const std::optional<Eigen::VectorXd> strict = untangle(energy, contact, x, {}, {});
+  UntangleOptions loose;
+  loose.relative_energy_tol = 1e-1;
+  const std::optional<Eigen::VectorXd> cut_short = untangle(energy, contact, x, loose, {});
+  ASSERT_TRUE(strict.has_value() && cut_short.has_value());
+  EXPECT_GT((*strict - *cut_short).lpNorm<Eigen::Infinity>(), 1e-6);
+  EXPECT_TRUE(crossing_pairs(contact, *cut_short).empty());
 }
 
 // The pairs found with the fixed faces' tree built once, at the start, are

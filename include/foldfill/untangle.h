@@ -25,6 +25,12 @@ struct UntangleOptions {
   // length of those pairs' crossing curves against the patch's stiffness.
   int rounds = 150;
   int iterations_per_round = 16;
+  // A round's minimisation, and the separation below, also stop once their
+  // objective changes by less than this per iteration over the solver's
+  // window (SolverOptions::relative_energy_tol): rounds cut short by the
+  // fill's looser stop move the patch too little, and more holes then end
+  // with no untangled start (docs/benchmarks.md).
+  double relative_energy_tol = 1e-5;
   // Weights of the curves' length (normalised units), in units of the mean
   // diagonal of the fabric energy's preconditioner: each tried in turn from
   // the start until one untangles it. The pull of the curves against the

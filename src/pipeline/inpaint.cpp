@@ -79,10 +79,11 @@ void check_options(const FillOptions& options, const std::string& source) {
                                             [](double w) { return w > 0 && std::isfinite(w); });
   if (!(start.obstacle_clearance > 0 && std::isfinite(start.obstacle_clearance)) ||
       start.membrane_bisections < 0 || untangle.rounds < 0 || untangle.iterations_per_round < 1 ||
-      untangle.separation_iterations < 0 || !weights_positive)
+      untangle.separation_iterations < 0 || !weights_positive ||
+      !(untangle.relative_energy_tol > 0 && std::isfinite(untangle.relative_energy_tol)))
     throw UsageError(source +
-                     ": start options out of range (obstacle_clearance and the untangling "
-                     "weights must be positive, "
+                     ": start options out of range (obstacle_clearance, the untangling "
+                     "weights and its relative_energy_tol must be positive, "
                      "membrane_bisections and rounds at least 0, iterations_per_round at least 1)");
   if (!options.prototype) return;
   const bool weights_set = options.energy.lambda != EnergyOptions{}.lambda ||
@@ -420,6 +421,7 @@ std::optional<std::vector<Vec3>> untangled(const Level& level, const std::vector
   if (level.contact.min_distance(variables, kTouching) < kTouching) {
     SolverOptions separate;
     separate.max_iterations = level.options.untangle.separation_iterations;
+    separate.relative_energy_tol = level.options.untangle.relative_energy_tol;
     const PatchObjective objective(level.energy, &level.contact);
     variables = minimize(objective, variables, separate, budget).x;
     result = level.energy.positions(variables);

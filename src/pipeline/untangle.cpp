@@ -231,6 +231,7 @@ std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchC
   // own) and the pairs in the box tree's order.
   SolverOptions solver;
   solver.max_iterations = options.iterations_per_round;
+  solver.relative_energy_tol = options.relative_energy_tol;
   std::unique_ptr<FactoredPreconditioner> factor;
   for (double weight : options.weights) {
     Eigen::VectorXd x = start;
