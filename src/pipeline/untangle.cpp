@@ -157,14 +157,14 @@ class CrossingCurveObjective final : public Objective {
   double value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const override {
     const Eigen::Index n = stiffness_.rows();
     double elastic = 0;
-    Eigen::VectorXd d(n);
+    d_.resize(n);
     if (gradient) gradient->resize(x.size());
     for (int c = 0; c < 3; ++c) {
-      for (Eigen::Index v = 0; v < n; ++v) d[v] = x[3 * v + c] - anchor_[3 * v + c];
-      const Eigen::VectorXd pd = stiffness_ * d;
-      elastic += 0.5 * d.dot(pd);
+      for (Eigen::Index v = 0; v < n; ++v) d_[v] = x[3 * v + c] - anchor_[3 * v + c];
+      pd_.noalias() = stiffness_ * d_;
+      elastic += 0.5 * d_.dot(pd_);
       if (gradient)
-        for (Eigen::Index v = 0; v < n; ++v) (*gradient)[3 * v + c] = pd[v];
+        for (Eigen::Index v = 0; v < n; ++v) (*gradient)[3 * v + c] = pd_[v];
     }
     // The fixed vertices stay where the anchor's positions put them.
     const size_t fixed = static_cast<size_t>(contact_.mesh().fixed_count);
@@ -172,9 +172,9 @@ class CrossingCurveObjective final : public Objective {
       for (int c = 0; c < 3; ++c) points_[v][c] = x[3 * static_cast<Eigen::Index>(v - fixed) + c];
     if (!gradient)
       return elastic + weight_ * curve_length(points_, contact_.mesh(), pairs_, nullptr);
-    Eigen::VectorXd curve = Eigen::VectorXd::Zero(x.size());
-    const double length = curve_length(points_, contact_.mesh(), pairs_, &curve);
-    *gradient += weight_ * curve;
+    curve_.setZero(x.size());
+    const double length = curve_length(points_, contact_.mesh(), pairs_, &curve_);
+    *gradient += weight_ * curve_;
     return elastic + weight_ * length;
   }
   Eigen::SparseMatrix<double> preconditioner() const override { return stiffness_; }
@@ -186,6 +186,9 @@ class CrossingCurveObjective final : public Objective {
   const Eigen::SparseMatrix<double>& stiffness_;
   const Eigen::VectorXd& anchor_;
   mutable std::vector<Vec3> points_;  // all collision-mesh positions, the free ones from x
+  // Scratch of value(): one coordinate's move from the anchor, P times it,
+  // the curves' gradient.
+  mutable Eigen::VectorXd d_, pd_, curve_;
 };
 
 MovingFaceCrossings patch_crossings(const PatchContact& contact, const Eigen::VectorXd& x) {
