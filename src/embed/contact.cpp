@@ -119,34 +119,25 @@ const double* PatchContact::place(const Eigen::VectorXd& x) const {
 // below its distance + 2 drift.
 void PatchContact::refresh_candidates() const {
   const double reach = options_.thickness + options_.skin;
-  broad_phase_.find(points_.data(), nullptr, reach, candidates_);
+  // The search keeps only the pairs closer than the reach (before sorting
+  // them: most pairs of meeting boxes are farther), then their distances.
+  broad_phase_.find_within(points_.data(), reach, candidates_);
   const CollisionMesh& m = mesh();
   const double* p = points_.data();
   const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
-  // Only the pairs closer than the reach are kept, with their distances.
-  size_t kept = 0;
   point_triangle_distance_.clear();
   for (const IndexPair& pair : candidates_.point_triangle) {
     const Tri& f = m.faces[pair[1]];
-    const double d = std::sqrt(
-        point_triangle_distance_squared(point(pair[0]), point(f[0]), point(f[1]), point(f[2])));
-    if (!(d < reach)) continue;
-    candidates_.point_triangle[kept++] = pair;
-    point_triangle_distance_.push_back(d);
+    point_triangle_distance_.push_back(std::sqrt(
+        point_triangle_distance_squared(point(pair[0]), point(f[0]), point(f[1]), point(f[2]))));
   }
-  candidates_.point_triangle.resize(kept);
-  kept = 0;
   edge_edge_distance_.clear();
   for (const IndexPair& pair : candidates_.edge_edge) {
     const auto& a = m.edges[pair[0]];
     const auto& b = m.edges[pair[1]];
-    const double d =
-        std::sqrt(edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1])));
-    if (!(d < reach)) continue;
-    candidates_.edge_edge[kept++] = pair;
-    edge_edge_distance_.push_back(d);
+    edge_edge_distance_.push_back(
+        std::sqrt(edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1]))));
   }
-  candidates_.edge_edge.resize(kept);
   obstacle_candidates_.clear();
   for (int f = first_patch_face_; f < end_patch_face_; ++f) {
     const Tri& t = m.faces[f];
