@@ -112,6 +112,30 @@ TEST(Multilevel, RefusesACoarseningThatDoesNotCoarsen) {
   EXPECT_THROW(coarser_levels(hole.strip, hole.flat, {}, domain, options), Error);
 }
 
+TEST(Multilevel, RefusesANegativeInterpolationClearance) {
+  const Hole hole(folded_sheet_with_hole(0.08).cut.mesh);
+  const EmbedDomain domain = hole.domain(1);
+  MultilevelOptions options;
+  options.min_patch_vertices = 1;
+  options.interpolation_clearance = -0.1;
+  EXPECT_THROW(coarser_levels(hole.strip, hole.flat, {}, domain, options), Error);
+  options.interpolation_clearance = std::nan("");
+  EXPECT_THROW(coarser_levels(hole.strip, hole.flat, {}, domain, options), Error);
+}
+
+// The mean over the patch faces' edges (an interior edge counted once per
+// face), the strip's faces left out.
+TEST(Multilevel, MeanPatchEdgeLengthIsOverThePatchFacesOnly) {
+  EmbedDomain domain;
+  domain.rest_uv = {{0, 0}, {10, 0}, {0, 10}, {1, 0}, {0, 2}};
+  domain.fixed_count = 3;
+  domain.faces = {{0, 1, 2}, {0, 3, 4}};
+  domain.strip_face_count = 1;
+  EXPECT_NEAR(mean_patch_edge_length(domain), (1 + std::sqrt(5.0) + 2) / 3, 1e-15);
+  domain.strip_face_count = 2;
+  EXPECT_EQ(mean_patch_edge_length(domain), 0);
+}
+
 FillResult fill(const Mesh& mesh, const FillOptions& options) {
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
   return fill_holes(mesh, loops, select_holes(loops, HoleSelection{}).fill, options);

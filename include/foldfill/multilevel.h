@@ -20,7 +20,19 @@ struct MultilevelOptions {
   // Density of a level / density of the next coarser one (> 1; 2 gives about a
   // quarter of the vertices).
   double coarsening = 2;
+  // A coarse level's patch keeps this many of the next finer level's mean
+  // rest edge lengths from everything on top of the contact's thickness
+  // (>= 0). The finer level's vertices are interpolated onto the coarse
+  // surface, and its triangles then cut across the coarse triangles' bends
+  // by up to about their circumradius (0.58 edge for an equilateral one):
+  // with that much more clearance, the interpolated start crosses nothing
+  // where the coarse one bends near other cloth or an obstacle, and the
+  // finer level need not start again from ARAP.
+  double interpolation_clearance = 0.2;
 };
+
+// The mean rest length of the edges of `domain`'s patch faces (normalised).
+double mean_patch_edge_length(const EmbedDomain& domain);
 
 // The coarser levels of the hole that `domain` meshes (the glue of `strip`,
 // flattened as `flat`, and the patch that triangulate_hole(hole_polygon(strip,

@@ -472,8 +472,10 @@ SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy&
 // The start of the minimisation over plan.domain and its kind: the domain's
 // ARAP start, or with the fast solver and a large patch its coarser levels,
 // the coarsest from ARAP, each minimised and interpolated onto the next finer
-// one; each level's start made clean (clean_start). A coarse level with no
-// clean start ends the coarse levels: the domain then starts from ARAP.
+// one; each level's start made clean (clean_start). A coarse level keeps the
+// contact's thickness plus MultilevelOptions::interpolation_clearance from
+// everything, so that its interpolation crosses nothing. A coarse level with
+// no clean start ends the coarse levels: the domain then starts from ARAP.
 struct Start {
   std::vector<Vec3> positions;
   StartKind kind = StartKind::Arap;
@@ -501,8 +503,12 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
         p.coarse_level = static_cast<int>(k) + 1;
         return solver.progress(p);
       };
+    const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
     const FabricEnergy level_energy(level, energy_options);
-    const PatchContact level_contact(level, scene, options.contact, obstacles.analytic);
+    ContactOptions level_contact_options = options.contact;
+    level_contact_options.thickness +=
+        options.multilevel.interpolation_clearance * mean_patch_edge_length(finer);
+    const PatchContact level_contact(level, scene, level_contact_options, obstacles.analytic);
     const Level here{level, level_energy, level_contact, obstacles.normalised, options.start};
     double blend = 0;
     const std::optional<std::vector<Vec3>> from = clean_start(
@@ -518,7 +524,6 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
                                    options.stiff_start_lambda, budget)
             : minimise(level_energy, &level_contact, *from, level_solver, budget);
     if (solved.stop_reason == StopReason::Cancelled) throw FillFailedError("cancelled");
-    const EmbedDomain& finer = k == 0 ? plan.domain : levels[k - 1];
     coarse = interpolate_patch(level, level_energy.positions(solved.x), finer);
   }
   const Level fine{plan.domain, energy, contact, obstacles.normalised, options.start};

@@ -123,6 +123,21 @@ std::vector<Vec3> interpolate_patch(const EmbedDomain& coarse,
   return positions;
 }
 
+double mean_patch_edge_length(const EmbedDomain& domain) {
+  double sum = 0;
+  long count = 0;
+  for (size_t f = static_cast<size_t>(domain.strip_face_count); f < domain.faces.size(); ++f) {
+    const Tri& t = domain.faces[f];
+    for (int k = 0; k < 3; ++k) {
+      const Vec2& a = domain.rest_uv[t[k]];
+      const Vec2& b = domain.rest_uv[t[(k + 1) % 3]];
+      sum += std::hypot(a[0] - b[0], a[1] - b[1]);
+      ++count;
+    }
+  }
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
 std::vector<EmbedDomain> coarser_levels(const Strip& strip, const Flattening& flat,
                                         const TriangulateOptions& triangulate,
                                         const EmbedDomain& domain,
@@ -133,6 +148,9 @@ std::vector<EmbedDomain> coarser_levels(const Strip& strip, const Flattening& fl
   if (!(options.coarsening > 1))
     throw UsageError("multilevel coarsening must be above 1, not " +
                      std::to_string(options.coarsening));
+  if (!(options.interpolation_clearance >= 0) || !std::isfinite(options.interpolation_clearance))
+    throw UsageError("multilevel interpolation clearance must be finite and at least 0, not " +
+                     std::to_string(options.interpolation_clearance));
   TriangulateOptions coarser = triangulate;
   int finer_free_count = domain.free_count();
   while (finer_free_count >= options.min_patch_vertices) {
