@@ -213,19 +213,35 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
     refresh_candidates();
     gather(options_.thickness, nullptr);
   }
+  // gradient_ is all zeros between calls: a call zeroes what it wrote, the
+  // free vertices' part and the fixed corners of the active pairs, instead
+  // of the whole array (the scene's vertices, often ten times the patch's).
   double* full_gradient = nullptr;
   if (gradient) {
-    gradient_.assign(points_.size(), 0.0);
+    gradient_.resize(points_.size(), 0.0);
     full_gradient = gradient_.data();
   }
   double value = barrier_potential(mesh(), points_.data(), active_, options_.thickness,
                                    options_.stiffness, full_gradient);
   if (std::isfinite(value)) value += obstacle_barrier(full_gradient);
-  if (gradient && std::isfinite(value)) {
-    const size_t offset = 3 * static_cast<size_t>(fixed_count_);
+  if (!gradient) return value;
+  const size_t offset = 3 * static_cast<size_t>(fixed_count_);
+  if (std::isfinite(value))
     for (Eigen::Index k = 0; k < gradient->size(); ++k)
       (*gradient)[k] += gradient_[offset + static_cast<size_t>(k)];
+  std::fill(gradient_.begin() + static_cast<std::ptrdiff_t>(offset), gradient_.end(), 0.0);
+  const CollisionMesh& m = mesh();
+  const auto clear_fixed = [&](int v) {
+    if (v < fixed_count_)
+      std::fill_n(gradient_.begin() + 3 * static_cast<std::ptrdiff_t>(v), 3, 0.0);
+  };
+  for (const IndexPair& pair : active_.point_triangle) {
+    clear_fixed(pair[0]);
+    for (int v : m.faces[pair[1]]) clear_fixed(v);
   }
+  for (const IndexPair& pair : active_.edge_edge)
+    for (int e : pair)
+      for (int v : m.edges[e]) clear_fixed(v);
   return value;
 }
 
