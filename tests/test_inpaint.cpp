@@ -449,7 +449,7 @@ TEST(Inpaint, TimeLimitPassingBeforeTheStartStopsEveryStageAndSaysSo) {
   const CutMesh cut = folded_sheet_with_hole(0.7);
   FillOptions options;
   options.solver.time_limit_seconds = 1e-9;
-  options.multilevel.min_patch_vertices = 10;  // a coarse start, were there time
+  options.multilevel.min_patch_vertices = 400;
   const FillResult result = fill_default(cut.cut.mesh, options);
   const HoleReport& hole = result.report.holes.at(0);
   ASSERT_TRUE(hole.filled) << hole.reason;
@@ -570,6 +570,36 @@ TEST(Inpaint, ASpikeThroughTheHoleIsGoneOverFromAnUntangledStart) {
       top = std::max(top, result.mesh.positions[v][2]);
     EXPECT_GT(top, 0.3 * scale);  // over the tip
   }
+}
+
+// The same spike under a patch large enough for coarser levels: the
+// coarsest level's ARAP start and membrane pass through the spike, that start
+// is untangled, and the coarse levels lead the patch over the tip. The tip is
+// a sharp point: the finer triangles' chords over it cut deeper into the
+// coarse surface than the default interpolation clearance allows for (the
+// patch then starts again from its own ARAP start, untangled), so the coarse
+// levels keep half a finer edge more.
+TEST(Inpaint, ASpikeThroughALargeHoleIsGoneOverFromAnUntangledCoarsestLevel) {
+  const Mesh mesh = sheet_over_a_spike(1);
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
+  FillOptions options = without_fallback();
+  options.triangulate.density = 3;
+  options.multilevel.min_patch_vertices = 400;
+  options.multilevel.interpolation_clearance = 0.5;
+  const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, options);
+  const HoleReport& report = result.report.holes.at(0);
+  ASSERT_TRUE(report.filled) << report.reason;
+  ASSERT_GE(report.patch_vertex_count, options.multilevel.min_patch_vertices);
+  EXPECT_EQ(report.start, StartKind::CoarseLevelsUntangled);
+  EXPECT_STREQ(to_string(report.start), "coarse_levels_untangled");
+  EXPECT_EQ(report.crossings.total(), 0);
+  EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, mesh.face_count()),
+            0);
+  double top = -1e9;
+  for (size_t v = mesh.positions.size(); v < result.mesh.positions.size(); ++v)
+    top = std::max(top, result.mesh.positions[v][2]);
+  EXPECT_GT(top, 0.3);  // over the tip
 }
 
 // Without untangling rounds the spike's start stays unguarded (so the test

@@ -132,12 +132,19 @@ enum class StartKind {
   // The ARAP start and the membrane crossed something: the ARAP start
   // untangled (pipeline/untangle.h: its crossing curves shrunk until none is left).
   Untangled,
+  // The coarsest level's ARAP start and its membrane crossed something: that
+  // start untangled, then the coarser levels as for CoarseLevels. Untangling
+  // the coarsest level is cheaper than untangling the patch, and where the
+  // patch's own untangling stalls among many small triangles it often gets
+  // through.
+  CoarseLevelsUntangled,
   // No start that crosses nothing was found: the patch was minimised without
   // the contact's guarantee (its crossings are in the report).
   Unguarded,
 };
 
-// "arap", "coarse_levels", "towards_membrane", "untangled", "unguarded".
+// "arap", "coarse_levels", "towards_membrane", "untangled",
+// "coarse_levels_untangled", "unguarded".
 const char* to_string(StartKind start);
 
 // What became of a hole chosen for filling.

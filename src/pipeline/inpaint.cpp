@@ -471,8 +471,9 @@ SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy&
 
 // The start of the minimisation over plan.domain and its kind: the domain's
 // ARAP start, or with the fast solver and a large patch its coarser levels,
-// the coarsest from ARAP, each minimised and interpolated onto the next finer
-// one; each level's start made clean (clean_start). A coarse level keeps the
+// the coarsest from ARAP (untangled where it and its membrane cross
+// something), each minimised and interpolated onto the next finer one; each
+// level's start made clean (clean_start). A coarse level keeps the
 // contact's thickness plus MultilevelOptions::interpolation_clearance from
 // everything, so that its interpolation crosses nothing. A coarse level with
 // no clean start ends the coarse levels: the domain then starts from ARAP.
@@ -495,6 +496,7 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
         coarser_levels(plan.strip, plan.flat, options.triangulate, plan.domain, options.multilevel);
   Start start;
   std::optional<std::vector<Vec3>> coarse;  // the finest coarse level's result, interpolated
+  bool coarsest_untangled = false;
   for (size_t k = levels.size(); k-- > 0 && !budget.spent();) {
     const EmbedDomain& level = levels[k];
     SolverOptions level_solver = solver;
@@ -511,8 +513,16 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     const PatchContact level_contact(level, scene, level_contact_options, obstacles.analytic);
     const Level here{level, level_energy, level_contact, obstacles.normalised, options.start};
     double blend = 0;
-    const std::optional<std::vector<Vec3>> from = clean_start(
-        here, coarse ? std::move(*coarse) : arap_embed(level, options.arap, budget), blend);
+    std::vector<Vec3> candidate =
+        coarse ? std::move(*coarse) : arap_embed(level, options.arap, budget);
+    std::optional<std::vector<Vec3>> from = clean_start(here, candidate, blend);
+    // The coarsest level's ARAP start and its membrane cross something: it
+    // is untangled, as the patch's would be, but with fewer triangles.
+    if (!from && k + 1 == levels.size()) {
+      clear_obstacles(level, obstacles.normalised, options.start.obstacle_clearance, candidate);
+      from = untangled(here, candidate, budget);
+      coarsest_untangled = from.has_value();
+    }
     if (!from) {
       coarse.reset();
       break;
@@ -533,7 +543,7 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     clear_obstacles(plan.domain, obstacles.normalised, options.start.obstacle_clearance, *coarse);
     if (crosses_nothing(plan.domain, contact, *coarse, energy)) {
       start.positions = std::move(*coarse);
-      start.kind = StartKind::CoarseLevels;
+      start.kind = coarsest_untangled ? StartKind::CoarseLevelsUntangled : StartKind::CoarseLevels;
       return start;
     }
   }
@@ -655,7 +665,7 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   const bool guarded = initial.kind != StartKind::Unguarded;
   if (!guarded && !minimise_unguarded) throw NoCleanStart(where, std::move(initial.positions));
   const SolverResult solved =
-      initial.kind == StartKind::CoarseLevels
+      initial.kind == StartKind::CoarseLevels || initial.kind == StartKind::CoarseLevelsUntangled
           ? minimise(energy, &contact, initial.positions, solver, budget)
           : minimise_folds_first(domain, energy, guarded ? &contact : nullptr, initial.positions,
                                  solver, options.stiff_start_lambda, budget);
@@ -1079,6 +1089,8 @@ const char* to_string(StartKind start) {
       return "coarse_levels";
     case StartKind::TowardsMembrane:
       return "towards_membrane";
+    case StartKind::CoarseLevelsUntangled:
+      return "coarse_levels_untangled";
     case StartKind::Untangled:
       return "untangled";
     case StartKind::Unguarded:
