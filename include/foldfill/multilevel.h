@@ -23,11 +23,15 @@ struct MultilevelOptions {
   // A coarse level's patch keeps this many of the next finer level's mean
   // rest edge lengths from everything on top of the contact's thickness
   // (>= 0). The finer level's vertices are interpolated onto the coarse
-  // surface, and its triangles then cut across the coarse triangles' bends
-  // by up to about their circumradius (0.58 edge for an equilateral one):
-  // with that much more clearance, the interpolated start crosses nothing
-  // where the coarse one bends near other cloth or an obstacle, and the
-  // finer level need not start again from ARAP.
+  // surface, and its triangles then cut across the coarse triangles' bends,
+  // by up to about their circumradius (0.58 edge for an equilateral one)
+  // across the sharpest: with more clearance the interpolated start crosses
+  // nothing where the coarse one bends near other cloth or an obstacle, and
+  // the finer level need not start again from ARAP. The default, chosen by
+  // measurement (docs/benchmarks.md, issue 17's fifth speed round), clears
+  // the bends of the reference cases; half an edge also clears a sharp spike
+  // but engages the barrier on coarse levels that otherwise come near
+  // nothing, which then cost more and end higher.
   double interpolation_clearance = 0.2;
 };
 
