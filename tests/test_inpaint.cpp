@@ -614,6 +614,9 @@ TEST(Inpaint, StartOptionsAreUsedAndChecked) {
   const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, options);
   EXPECT_EQ(result.report.holes.at(0).start, StartKind::Unguarded);
   EXPECT_GT(result.report.holes.at(0).crossings.total(), 0);
+  EXPECT_NE(result.report.holes.at(0).warning.find("untangling did not clear them"),
+            std::string::npos)
+      << result.report.holes.at(0).warning;
   for (int k = 0; k < 5; ++k) {
     FillOptions bad;
     if (k == 0) bad.start.obstacle_clearance = 0;
@@ -622,6 +625,34 @@ TEST(Inpaint, StartOptionsAreUsedAndChecked) {
     if (k == 3) bad.start.untangle.iterations_per_round = 0;
     if (k == 4) bad.start.untangle.weights[1] = -1;
     EXPECT_THROW(fill_holes(mesh, loops, {loops[hole].id}, bad), UsageError) << k;
+  }
+}
+
+// A time limit that passes before the spike's start is untangled leaves it
+// unguarded, and the warning and the fallback's reason say that the time
+// limit, not the untangling, is why: with the fallback chain the unguarded
+// fabric fill is still the one kept (every other step's patch crosses too).
+TEST(Inpaint, ATimeLimitThatEndsTheSearchForACleanStartIsNamed) {
+  const Mesh mesh = sheet_over_a_spike(1);
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
+  for (bool fallback : {false, true}) {
+    SCOPED_TRACE(fallback ? "with the fallback chain" : "without");
+    FillOptions options;
+    options.fallback.enabled = fallback;
+    options.solver.time_limit_seconds = 1e-9;
+    const HoleReport report = fill_holes(mesh, loops, {loops[hole].id}, options).report.holes.at(0);
+    ASSERT_TRUE(report.filled) << report.reason;
+    EXPECT_EQ(report.start, StartKind::Unguarded);
+    const std::string named = "the time limit passed before a start that crosses nothing";
+    EXPECT_NE(report.warning.find(named), std::string::npos) << report.warning;
+    EXPECT_EQ(report.warning.find("untangling did not clear them"), std::string::npos)
+        << report.warning;
+    if (fallback) {
+      ASSERT_FALSE(report.fallback_reasons.empty());
+      EXPECT_NE(report.fallback_reasons.front().find(named), std::string::npos)
+          << report.fallback_reasons.front();
+    }
   }
 }
 

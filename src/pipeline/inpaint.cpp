@@ -570,7 +570,17 @@ bool all_finite(const std::vector<Vec3>& positions) {
 
 // Why a kept patch deserves a look, or empty; its crossings are measured on
 // the output (measure_crossings), which adds them.
-std::string patch_warning(const HoleReport& report, const std::string& where) {
+// Why no start that crosses nothing was found: the time limit ended the
+// search for one (`timed_out`), or every kind of start was tried.
+std::string no_clean_start(bool timed_out) {
+  return timed_out ? "the time limit passed before a start that crosses nothing was found"
+                   : "no start that crosses nothing was found (the ARAP start and the "
+                     "membrane both cross something, and untangling did not clear them)";
+}
+
+// `start_timed_out`: the time limit ended the search for a start.
+std::string patch_warning(const HoleReport& report, const std::string& where,
+                          bool start_timed_out) {
   std::string warning;
   if (report.stop_reason == StopReason::Diverged)
     warning = "the minimisation diverged after " + std::to_string(report.iterations) +
@@ -579,11 +589,8 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
     warning = "the time limit stopped the minimisation after " + std::to_string(report.iterations) +
               " iterations";
   if (report.start == StartKind::Unguarded)
-    warning += (warning.empty() ? "" : "; ") +
-               std::string(
-                   "no start that crosses nothing was found (the ARAP start and the "
-                   "membrane both cross something, and untangling did not clear them): "
-                   "minimised without the guarantee");
+    warning += (warning.empty() ? "" : "; ") + no_clean_start(start_timed_out) +
+               ": minimised without the guarantee";
   return warning.empty() ? warning : where + ": " + warning;
 }
 
@@ -592,20 +599,22 @@ std::string patch_warning(const HoleReport& report, const std::string& where) {
 // Thrown by fill_fabric, when told to, where no start that crosses nothing
 // was found: the chain tries the other steps before it minimises without the
 // guarantee, from `start` (the search for a clean one is not run again).
+struct UnguardedStart {
+  std::vector<Vec3> positions;  // the domain's positions the patch is minimised from unguarded
+  bool timed_out = false;       // the time limit ended the search for a clean start
+};
 struct NoCleanStart : FillFailedError {
-  NoCleanStart(const std::string& where, std::vector<Vec3> unguarded_start)
-      : FillFailedError(where +
-                        ": no start that crosses nothing was found (the ARAP start and the "
-                        "membrane both cross something, and untangling did not clear them)"),
+  NoCleanStart(const std::string& where, UnguardedStart unguarded_start)
+      : FillFailedError(where + ": " + no_clean_start(unguarded_start.timed_out)),
         start(std::move(unguarded_start)) {}
-  std::vector<Vec3> start;  // the domain's positions the patch is minimised from unguarded
+  UnguardedStart start;
 };
 
 // `unguarded_start` (may be null): the start of an earlier call's NoCleanStart
 // for the same hole, minimised from without the guarantee.
 HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
                       const Surroundings& around, HolePatch&& result, bool minimise_unguarded,
-                      const std::vector<Vec3>* unguarded_start = nullptr) {
+                      const UnguardedStart* unguarded_start = nullptr) {
   const FillOptions& options = context.options;
   HoleReport& report = result.report;
   const auto start = Clock::now();
@@ -647,9 +656,9 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   // Start.
   Start initial;
   if (unguarded_start) {
-    if (static_cast<int>(unguarded_start->size()) != domain.vertex_count())
+    if (static_cast<int>(unguarded_start->positions.size()) != domain.vertex_count())
       throw InternalError(where + ": an unguarded start of another domain");
-    initial.positions = *unguarded_start;
+    initial.positions = unguarded_start->positions;
     initial.kind = StartKind::Unguarded;
   } else {
     initial = place_start(context, plan, scene, obstacles, energy_options, solver, energy, contact,
@@ -663,7 +672,12 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   throw_if_cancelled(context, where);
   stage = Clock::now();
   const bool guarded = initial.kind != StartKind::Unguarded;
-  if (!guarded && !minimise_unguarded) throw NoCleanStart(where, std::move(initial.positions));
+  // A search for a clean start that found none before the time limit passed
+  // did not try every kind of start.
+  const bool start_timed_out =
+      unguarded_start ? unguarded_start->timed_out : !guarded && budget.spent();
+  if (!guarded && !minimise_unguarded)
+    throw NoCleanStart(where, {std::move(initial.positions), start_timed_out});
   const SolverResult solved =
       initial.kind == StartKind::CoarseLevels || initial.kind == StartKind::CoarseLevelsUntangled
           ? minimise(energy, &contact, initial.positions, solver, budget)
@@ -677,7 +691,7 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
   if (!all_finite(final_positions))
     throw FillFailedError(where + ": the patch has non-finite positions (stop: " +
                           to_string(solved.stop_reason) + ")");
-  report.warning = patch_warning(report, where);
+  report.warning = patch_warning(report, where, start_timed_out);
 
   // Measure.
   const PatchState after_start = measure_patch(energy, initial.positions);
@@ -867,7 +881,7 @@ HolePatch fill_one_hole(const FillContext& context, const BoundaryLoop& loop,
   std::optional<HolePatch> crossing;
   // Set when the fabric method found no start that crosses nothing: the
   // start it is then minimised from, unguarded, if no later step does better.
-  std::optional<std::vector<Vec3>> fabric_deferred;
+  std::optional<UnguardedStart> fabric_deferred;
   for (size_t k = 0; k < steps.size(); ++k) {
     throw_if_cancelled(context, where);
     const bool last = k + 1 == steps.size();
