@@ -551,24 +551,33 @@ Mesh sheet_over_a_spike(double scale) {
   return mesh;
 }
 
+// The spike mesh's hole (the shorter of its two loops).
+int spike_hole(const std::vector<BoundaryLoop>& loops) {
+  return loops[0].vertices.size() < loops[1].vertices.size() ? loops[0].id : loops[1].id;
+}
+
+// The fill of the spike mesh crosses nothing and goes over the tip.
+void expect_over_the_spike(const Mesh& mesh, const FillResult& result, double scale) {
+  EXPECT_EQ(result.report.holes.at(0).crossings.total(), 0);
+  EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, mesh.face_count()),
+            0);
+  double top = -1e9;
+  for (size_t v = mesh.positions.size(); v < result.mesh.positions.size(); ++v)
+    top = std::max(top, result.mesh.positions[v][2]);
+  EXPECT_GT(top, 0.3 * scale);  // over the tip
+}
+
 TEST(Inpaint, ASpikeThroughTheHoleIsGoneOverFromAnUntangledStart) {
   for (double scale : {1.0, 1000.0}) {
     SCOPED_TRACE("scale " + std::to_string(scale));
     const Mesh mesh = sheet_over_a_spike(scale);
     const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
     ASSERT_EQ(loops.size(), 2u);
-    const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
-    const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, without_fallback());
+    const FillResult result = fill_holes(mesh, loops, {spike_hole(loops)}, without_fallback());
     const HoleReport& report = result.report.holes.at(0);
     ASSERT_TRUE(report.filled) << report.reason;
     EXPECT_EQ(report.start, StartKind::Untangled);
-    EXPECT_EQ(report.crossings.total(), 0);
-    EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, mesh.face_count()),
-              0);
-    double top = -1e9;
-    for (size_t v = mesh.positions.size(); v < result.mesh.positions.size(); ++v)
-      top = std::max(top, result.mesh.positions[v][2]);
-    EXPECT_GT(top, 0.3 * scale);  // over the tip
+    expect_over_the_spike(mesh, result, scale);
   }
 }
 
@@ -582,24 +591,17 @@ TEST(Inpaint, ASpikeThroughTheHoleIsGoneOverFromAnUntangledStart) {
 TEST(Inpaint, ASpikeThroughALargeHoleIsGoneOverFromAnUntangledCoarsestLevel) {
   const Mesh mesh = sheet_over_a_spike(1);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
-  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
   FillOptions options = without_fallback();
   options.triangulate.density = 3;
   options.multilevel.min_patch_vertices = 400;
   options.multilevel.interpolation_clearance = 0.5;
-  const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, options);
+  const FillResult result = fill_holes(mesh, loops, {spike_hole(loops)}, options);
   const HoleReport& report = result.report.holes.at(0);
   ASSERT_TRUE(report.filled) << report.reason;
   ASSERT_GE(report.patch_vertex_count, options.multilevel.min_patch_vertices);
   EXPECT_EQ(report.start, StartKind::CoarseLevelsUntangled);
   EXPECT_STREQ(to_string(report.start), "coarse_levels_untangled");
-  EXPECT_EQ(report.crossings.total(), 0);
-  EXPECT_EQ(count_self_intersections(result.mesh.positions, result.mesh.faces, mesh.face_count()),
-            0);
-  double top = -1e9;
-  for (size_t v = mesh.positions.size(); v < result.mesh.positions.size(); ++v)
-    top = std::max(top, result.mesh.positions[v][2]);
-  EXPECT_GT(top, 0.3);  // over the tip
+  expect_over_the_spike(mesh, result, 1);
 }
 
 // Without untangling rounds the spike's start stays unguarded (so the test
@@ -607,11 +609,10 @@ TEST(Inpaint, ASpikeThroughALargeHoleIsGoneOverFromAnUntangledCoarsestLevel) {
 TEST(Inpaint, StartOptionsAreUsedAndChecked) {
   const Mesh mesh = sheet_over_a_spike(1);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
-  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
   FillOptions options;
   options.fallback.enabled = false;
   options.start.untangle.rounds = 0;
-  const FillResult result = fill_holes(mesh, loops, {loops[hole].id}, options);
+  const FillResult result = fill_holes(mesh, loops, {spike_hole(loops)}, options);
   EXPECT_EQ(result.report.holes.at(0).start, StartKind::Unguarded);
   EXPECT_GT(result.report.holes.at(0).crossings.total(), 0);
   EXPECT_NE(result.report.holes.at(0).warning.find("untangling did not clear them"),
@@ -624,7 +625,7 @@ TEST(Inpaint, StartOptionsAreUsedAndChecked) {
     if (k == 2) bad.start.untangle.rounds = -1;
     if (k == 3) bad.start.untangle.iterations_per_round = 0;
     if (k == 4) bad.start.untangle.weights[1] = -1;
-    EXPECT_THROW(fill_holes(mesh, loops, {loops[hole].id}, bad), UsageError) << k;
+    EXPECT_THROW(fill_holes(mesh, loops, {spike_hole(loops)}, bad), UsageError) << k;
   }
 }
 
@@ -635,13 +636,13 @@ TEST(Inpaint, StartOptionsAreUsedAndChecked) {
 TEST(Inpaint, ATimeLimitThatEndsTheSearchForACleanStartIsNamed) {
   const Mesh mesh = sheet_over_a_spike(1);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
-  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
   for (bool fallback : {false, true}) {
     SCOPED_TRACE(fallback ? "with the fallback chain" : "without");
     FillOptions options;
     options.fallback.enabled = fallback;
     options.solver.time_limit_seconds = 1e-9;
-    const HoleReport report = fill_holes(mesh, loops, {loops[hole].id}, options).report.holes.at(0);
+    const HoleReport report =
+        fill_holes(mesh, loops, {spike_hole(loops)}, options).report.holes.at(0);
     ASSERT_TRUE(report.filled) << report.reason;
     EXPECT_EQ(report.start, StartKind::Unguarded);
     const std::string named = "the time limit passed before a start that crosses nothing";
@@ -696,12 +697,11 @@ TEST(Inpaint, AStartLyingOnTheClothIsNotClean) {
 TEST(Inpaint, AFabricFillDeferredPastTheFallbacksIsTheUnguardedOne) {
   const Mesh mesh = sheet_over_a_spike(1);
   const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
-  const int hole = loops[0].vertices.size() < loops[1].vertices.size() ? 0 : 1;
   FillOptions options;
   options.start.untangle.rounds = 0;
-  const FillResult deferred = fill_holes(mesh, loops, {loops[hole].id}, options);
+  const FillResult deferred = fill_holes(mesh, loops, {spike_hole(loops)}, options);
   options.fallback.enabled = false;
-  const FillResult direct = fill_holes(mesh, loops, {loops[hole].id}, options);
+  const FillResult direct = fill_holes(mesh, loops, {spike_hole(loops)}, options);
   const HoleReport& report = deferred.report.holes.at(0);
   EXPECT_EQ(report.method, FillMethod::Fabric);
   EXPECT_EQ(report.start, StartKind::Unguarded);

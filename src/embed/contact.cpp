@@ -225,11 +225,12 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
                                    options_.stiffness, full_gradient);
   if (std::isfinite(value)) value += obstacle_barrier(full_gradient);
   if (!gradient) return value;
-  const size_t offset = 3 * static_cast<size_t>(fixed_count_);
-  if (std::isfinite(value))
-    for (Eigen::Index k = 0; k < gradient->size(); ++k)
-      (*gradient)[k] += gradient_[offset + static_cast<size_t>(k)];
-  std::fill(gradient_.begin() + static_cast<std::ptrdiff_t>(offset), gradient_.end(), 0.0);
+  const bool finite = std::isfinite(value);
+  double* free_gradient = gradient_.data() + 3 * static_cast<size_t>(fixed_count_);
+  for (Eigen::Index k = 0; k < gradient->size(); ++k) {
+    if (finite) (*gradient)[k] += free_gradient[k];
+    free_gradient[k] = 0;
+  }
   const CollisionMesh& m = mesh();
   const auto clear_fixed = [&](int v) {
     if (v < fixed_count_)

@@ -129,9 +129,7 @@ double mean_patch_edge_length(const EmbedDomain& domain) {
   for (size_t f = static_cast<size_t>(domain.strip_face_count); f < domain.faces.size(); ++f) {
     const Tri& t = domain.faces[f];
     for (int k = 0; k < 3; ++k) {
-      const Vec2& a = domain.rest_uv[t[k]];
-      const Vec2& b = domain.rest_uv[t[(k + 1) % 3]];
-      sum += std::hypot(a[0] - b[0], a[1] - b[1]);
+      sum += distance(domain.rest_uv[t[k]], domain.rest_uv[t[(k + 1) % 3]]);
       ++count;
     }
   }
