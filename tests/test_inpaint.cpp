@@ -604,6 +604,42 @@ TEST(Inpaint, ASpikeThroughALargeHoleIsGoneOverFromAnUntangledCoarsestLevel) {
   expect_over_the_spike(mesh, result, 1);
 }
 
+// The folds-first pass runs without the contact first. Far from everything
+// its end is a clean start, and the fill is the one the guarded pass gives,
+// bit for bit (the barrier never acts and no step is bounded on the way).
+TEST(Inpaint, AFoldsFirstPassFarFromEverythingRunsUnguardedToTheSameFill) {
+  const CutMesh cut = folded_sheet_with_hole();
+  FillOptions guarded;
+  guarded.unguarded_folds_first = false;
+  const FillResult fast = fill_default(cut.cut.mesh);
+  const FillResult slow = fill_default(cut.cut.mesh, guarded);
+  const HoleReport& fast_hole = fast.report.holes.at(0);
+  const HoleReport& slow_hole = slow.report.holes.at(0);
+  ASSERT_TRUE(fast_hole.filled) << fast_hole.reason;
+  ASSERT_TRUE(slow_hole.filled) << slow_hole.reason;
+  EXPECT_EQ(fast_hole.folds_first, FoldsFirstPass::Unguarded);
+  EXPECT_EQ(slow_hole.folds_first, FoldsFirstPass::Guarded);
+  EXPECT_STREQ(to_string(fast_hole.folds_first), "unguarded");
+  EXPECT_EQ(fast_hole.iterations, slow_hole.iterations);
+  EXPECT_EQ(fast.mesh.positions, slow.mesh.positions);
+  EXPECT_EQ(fast.mesh.faces, slow.mesh.faces);
+  EXPECT_EQ(fast_hole.crossings.total(), 0);
+}
+
+// Over the spike the stiff pass, unguarded, would pull the untangled start
+// back through the tip: its end crosses the spike, so the pass runs again
+// guarded and the fill stays over the tip.
+TEST(Inpaint, AnUnguardedFoldsFirstPassThatEndsCrossingIsRunAgainGuarded) {
+  const Mesh mesh = sheet_over_a_spike(1);
+  const std::vector<BoundaryLoop> loops = find_boundary_loops(mesh);
+  const FillResult result = fill_holes(mesh, loops, {spike_hole(loops)}, without_fallback());
+  const HoleReport& report = result.report.holes.at(0);
+  ASSERT_TRUE(report.filled) << report.reason;
+  EXPECT_EQ(report.start, StartKind::Untangled);
+  EXPECT_EQ(report.folds_first, FoldsFirstPass::Guarded);
+  expect_over_the_spike(mesh, result, 1);
+}
+
 // Without untangling rounds the spike's start stays unguarded (so the test
 // above tests the untangling); start options out of range are usage errors.
 TEST(Inpaint, StartOptionsAreUsedAndChecked) {

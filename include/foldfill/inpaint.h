@@ -98,6 +98,14 @@ struct FillOptions {
   // weight is below this is first minimised with this weight, then with its
   // own from there: the large folds form first (0: never).
   double stiff_start_lambda = 0.1;
+  // The folds-first pass is first run without the contact (the fabric energy
+  // alone, as the paper's minimisation): where its end, cleared of the
+  // obstacles, crosses and touches nothing (the exact test of a start), the
+  // guarded minimisation with the weight asked for starts there; otherwise
+  // the pass is run again from the same start, guarded. Like ARAP, the pass
+  // is then a way to a start, checked as every start is; the minimisation
+  // that gives the fill stays guarded at every step. false: always guarded.
+  bool unguarded_folds_first = true;
   // The prototype's weights in the mesh's units, mapped per hole onto
   // energy.lambda, energy.repulsion and solver.step; those must then be left
   // at their defaults (fill_holes throws UsageError otherwise).
@@ -147,6 +155,18 @@ enum class StartKind {
 // "coarse_levels_untangled", "unguarded".
 const char* to_string(StartKind start);
 
+// How the folds-first pass (FillOptions::stiff_start_lambda) ran: the
+// patch's, or where the patch started from its coarse levels, the coarsest
+// level's.
+enum class FoldsFirstPass {
+  None,       // none ran (the bending weight is not below stiff_start_lambda, gradient descent)
+  Unguarded,  // without the contact, its end a clean start (FillOptions::unguarded_folds_first)
+  Guarded,    // with the contact's barrier and step bound
+};
+
+// "none", "unguarded", "guarded".
+const char* to_string(FoldsFirstPass pass);
+
 // What became of a hole chosen for filling.
 enum class HoleStatus {
   Filled,     // a patch closes it
@@ -185,6 +205,7 @@ struct HoleReport {
   // How far the start is from the ARAP start towards the membrane (0: it is
   // the ARAP start; 1: the membrane) with StartKind::TowardsMembrane.
   double start_blend = 0;
+  FoldsFirstPass folds_first = FoldsFirstPass::None;
   // Set when the patch was kept but the minimisation did not end normally (it
   // diverged: the lowest-energy state seen was kept; a time limit stopped it),
   // or when the fill crosses itself, the rest of the mesh or an obstacle.

@@ -430,6 +430,10 @@ std::optional<std::vector<Vec3>> untangled(const Level& level, const std::vector
   return result;
 }
 
+bool all_finite(const std::vector<Vec3>& positions) {
+  return std::all_of(positions.begin(), positions.end(), is_finite);
+}
+
 // ---- The minimisation ----------------------------------------------------------
 
 SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
@@ -444,11 +448,20 @@ SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
 // that weight lets the cloth form its large folds while it is stiff, and the
 // weight asked for then lets the finer ones form between them. From a
 // crumpling start, a floppy patch otherwise jams in many small wrinkles that
-// cannot pass each other to make room.
-SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy& energy,
-                                  const PatchContact* contact, const std::vector<Vec3>& start,
-                                  const SolverOptions& solver, double stiff_lambda,
-                                  const Budget& budget) {
+// cannot pass each other to make room. With a contact and `unguarded_first`
+// (FillOptions::unguarded_folds_first), the stiff pass runs without it
+// first, and its end is kept where it is a clean start (crosses_nothing,
+// after clear_obstacles with `obstacle_clearance`); the guarded pass runs
+// otherwise. Far from everything the two take the same path, the unguarded
+// one without the contact's searches and step bounds.
+// `pass` receives how the stiff pass ran.
+SolverResult minimise_folds_first(const Level& level, const PatchContact* contact,
+                                  const std::vector<Vec3>& start, const SolverOptions& solver,
+                                  double stiff_lambda, bool unguarded_first, const Budget& budget,
+                                  FoldsFirstPass& pass) {
+  const EmbedDomain& domain = level.domain;
+  const FabricEnergy& energy = level.energy;
+  pass = FoldsFirstPass::None;
   if (!(energy.options().lambda < stiff_lambda) || solver.kind != SolverKind::Fast)
     return minimise(energy, contact, start, solver, budget);
   EnergyOptions stiff_options = energy.options();
@@ -462,6 +475,24 @@ SolverResult minimise_folds_first(const EmbedDomain& domain, const FabricEnergy&
       p.stage = MinimisationStage::FoldsFirst;
       return solver.progress(p);
     };
+  if (contact && unguarded_first) {
+    const SolverResult folded = minimise(stiff, nullptr, start, stiff_solver, budget);
+    if (folded.stop_reason == StopReason::Cancelled) return folded;
+    std::vector<Vec3> folded_positions = stiff.positions(folded.x);
+    bool clean =
+        all_finite(folded_positions) && crosses_nothing(domain, *contact, folded_positions, energy);
+    if (!clean && !level.obstacles.empty() && all_finite(folded_positions)) {
+      clear_obstacles(domain, level.obstacles, level.options.obstacle_clearance, folded_positions);
+      clean = crosses_nothing(domain, *contact, folded_positions, energy);
+    }
+    if (clean) {
+      pass = FoldsFirstPass::Unguarded;
+      SolverResult result = minimise(energy, contact, folded_positions, solver, budget);
+      result.iterations += folded.iterations;
+      return result;
+    }
+  }
+  pass = contact ? FoldsFirstPass::Guarded : FoldsFirstPass::Unguarded;
   SolverResult folded = minimise(stiff, contact, start, stiff_solver, budget);
   if (folded.stop_reason == StopReason::Cancelled) return folded;
   SolverResult result = minimise(energy, contact, stiff.positions(folded.x), solver, budget);
@@ -481,6 +512,7 @@ struct Start {
   std::vector<Vec3> positions;
   StartKind kind = StartKind::Arap;
   double blend = 0;
+  FoldsFirstPass folds_first = FoldsFirstPass::None;  // the coarsest level's, with coarse levels
 };
 
 Start place_start(const FillContext& context, const HolePlan& plan, const PatchScene& scene,
@@ -530,8 +562,9 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
     // The coarsest level forms the large folds (minimise_folds_first).
     const SolverResult solved =
         k + 1 == levels.size()
-            ? minimise_folds_first(level, level_energy, &level_contact, *from, level_solver,
-                                   options.stiff_start_lambda, budget)
+            ? minimise_folds_first(here, &level_contact, *from, level_solver,
+                                   options.stiff_start_lambda, options.unguarded_folds_first,
+                                   budget, start.folds_first)
             : minimise(level_energy, &level_contact, *from, level_solver, budget);
     if (solved.stop_reason == StopReason::Cancelled) throw FillFailedError("cancelled");
     coarse = interpolate_patch(level, level_energy.positions(solved.x), finer);
@@ -562,10 +595,6 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
   start.positions = std::move(arap);
   start.kind = StartKind::Unguarded;
   return start;
-}
-
-bool all_finite(const std::vector<Vec3>& positions) {
-  return std::all_of(positions.begin(), positions.end(), is_finite);
 }
 
 // Why a kept patch deserves a look, or empty; its crossings are measured on
@@ -678,11 +707,16 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
       unguarded_start ? unguarded_start->timed_out : !guarded && budget.spent();
   if (!guarded && !minimise_unguarded)
     throw NoCleanStart(where, {std::move(initial.positions), start_timed_out});
+  const bool from_coarse_levels =
+      initial.kind == StartKind::CoarseLevels || initial.kind == StartKind::CoarseLevelsUntangled;
+  report.folds_first = initial.folds_first;
   const SolverResult solved =
-      initial.kind == StartKind::CoarseLevels || initial.kind == StartKind::CoarseLevelsUntangled
+      from_coarse_levels
           ? minimise(energy, &contact, initial.positions, solver, budget)
-          : minimise_folds_first(domain, energy, guarded ? &contact : nullptr, initial.positions,
-                                 solver, options.stiff_start_lambda, budget);
+          : minimise_folds_first(
+                Level{domain, energy, contact, obstacles.normalised, options.start},
+                guarded ? &contact : nullptr, initial.positions, solver, options.stiff_start_lambda,
+                options.unguarded_folds_first, budget, report.folds_first);
   report.iterations = solved.iterations;
   report.stop_reason = solved.stop_reason;
   report.seconds.optimize = seconds_since(stage);
@@ -1093,6 +1127,18 @@ const char* to_string(FillMethod method) {
       return "triangulation";
   }
   return "fabric";
+}
+
+const char* to_string(FoldsFirstPass pass) {
+  switch (pass) {
+    case FoldsFirstPass::None:
+      return "none";
+    case FoldsFirstPass::Unguarded:
+      return "unguarded";
+    case FoldsFirstPass::Guarded:
+      return "guarded";
+  }
+  return "none";
 }
 
 const char* to_string(StartKind start) {
