@@ -120,6 +120,44 @@ TEST(Contact, StepBoundStopsARigidMoveBeforeTheLayer) {
   EXPECT_EQ(contact.step_bound(x, side), 1.0);
 }
 
+// Scope::ObstaclesOnly keeps the patch out of the analytic obstacles alone:
+// a move up through the layer of cloth is not cut short, one up into a
+// plane above the layer is; the layer within the thickness adds nothing to
+// its barrier. The whole contact, asked afterwards, gives what a fresh one
+// gives: candidates searched for the obstacles alone do not stand in for
+// the pairs'.
+TEST(Contact, TheObstaclesOnlyScopeSeesTheObstaclesAlone) {
+  const Crumpling problem;
+  const double gap = 0.05;
+  Obstacle ceiling;
+  ceiling.type = Obstacle::Type::Plane;
+  ceiling.center = {0, 0, problem.top + 1.0};
+  ceiling.normal = {0, 0, -1};
+  const PatchScene layer = layer_above(problem.domain, problem.top + gap);
+  const PatchContact contact(problem.domain, layer, {}, {ceiling});
+  const Eigen::VectorXd x = problem.energy.variables(problem.start);
+  const auto only = PatchContact::Scope::ObstaclesOnly;
+  EXPECT_EQ(contact.evaluate(x, nullptr, only), 0.0);
+  Eigen::VectorXd through_layer = Eigen::VectorXd::Zero(x.size());
+  for (Eigen::Index k = 2; k < x.size(); k += 3) through_layer[k] = 0.5;
+  EXPECT_EQ(contact.step_bound(x, through_layer, only), 1.0);
+  EXPECT_GT(crossings(problem.domain, contact, x + through_layer), 0);
+  const Eigen::VectorXd into_ceiling = 4 * through_layer;
+  const double bound = contact.step_bound(x, into_ceiling, only);
+  EXPECT_GT(bound, 0.3);
+  EXPECT_LT(bound, 0.5);
+  const std::vector<Vec3> at_bound = contact.positions(x + bound * into_ceiling);
+  for (const Vec3& p : at_bound) EXPECT_LT(p[2], problem.top + 1.0);
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(x.size());
+  const double value = contact.evaluate(x, &gradient);
+  ASSERT_GT(value, 0);  // the layer is within the thickness of the patch's top
+  const PatchContact fresh(problem.domain, layer, {}, {ceiling});
+  Eigen::VectorXd fresh_gradient = Eigen::VectorXd::Zero(x.size());
+  EXPECT_EQ(value, fresh.evaluate(x, &fresh_gradient));
+  EXPECT_EQ(gradient, fresh_gradient);
+  EXPECT_LT(contact.step_bound(x, through_layer), 0.2);
+}
+
 // A step the candidates do not cover searches them again around its end,
 // so that they also cover the next steps. What uses them up is how far the
 // vertices' displacements since the search spread (0, the fixed vertices',

@@ -61,6 +61,12 @@ struct PatchScene {
 // from two threads at once; results do not depend on the thread count.
 class PatchContact {
  public:
+  // What evaluate and step_bound keep the patch from: everything above, or
+  // only the analytic obstacles (the patch may then cross itself, its strip
+  // and the scene: a way to a start that is checked afterwards). Candidates
+  // searched for the obstacles alone are searched again for everything.
+  enum class Scope { Everything, ObstaclesOnly };
+
   // `obstacles`: spheres, cylinders and planes in the domain's normalised
   // coordinates (mesh obstacles belong in the scene, as triangles). Throws
   // UsageError unless thickness, stiffness and skin are positive,
@@ -73,10 +79,12 @@ class PatchContact {
   // stiffness * sum of the barrier over the pairs closer than the thickness;
   // +infinity where a pair touches. Adds stiffness * its gradient to
   // `gradient` (3 per free vertex) when non-null.
-  double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const;
+  double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
+                  Scope scope = Scope::Everything) const;
   // The largest t in [0, 1] such that no pair comes into contact on the step
   // x + s dx, s in [0, t] (conservative, see collision_step_bound).
-  double step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const;
+  double step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
+                    Scope scope = Scope::Everything) const;
   // The smallest distance between two primitives that may not touch (a free
   // one and any other that shares no vertex with it), or `limit` when none
   // is nearer (normalised).
@@ -99,7 +107,9 @@ class PatchContact {
  private:
   // All collision-mesh positions with the free ones from x.
   const double* place(const Eigen::VectorXd& x) const;
-  void refresh_candidates() const;
+  // The candidates at the current points: the pairs and the obstacles'
+  // faces (Scope::Everything), or the obstacles' faces alone.
+  void refresh_candidates(Scope scope = Scope::Everything) const;
   // Fills active_ with the candidates that may come closer than `distance`
   // at the current points or, with `move` (3 per collision vertex; null:
   // none), anywhere along the step from them by `move`; false, with active_
@@ -127,6 +137,7 @@ class PatchContact {
   // in order: the others stay farther than the thickness while gather holds.
   mutable std::vector<std::array<int, 2>> obstacle_candidates_;
   mutable bool has_candidates_ = false;
+  mutable Scope candidates_scope_ = Scope::Everything;  // of the last search
   mutable int candidate_searches_ = 0;
 };
 
@@ -135,8 +146,9 @@ class PatchContact {
 // contact, the fabric energy alone.
 class PatchObjective final : public Objective {
  public:
-  PatchObjective(const FabricEnergy& energy, const PatchContact* contact)
-      : energy_(energy), contact_(contact) {}
+  PatchObjective(const FabricEnergy& energy, const PatchContact* contact,
+                 PatchContact::Scope scope = PatchContact::Scope::Everything)
+      : energy_(energy), contact_(contact), scope_(scope) {}
 
   Eigen::Index size() const override { return 3 * energy_.domain().free_count(); }
   double value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const override;
@@ -146,6 +158,7 @@ class PatchObjective final : public Objective {
  private:
   const FabricEnergy& energy_;
   const PatchContact* contact_;
+  PatchContact::Scope scope_;
 };
 
 }  // namespace foldfill

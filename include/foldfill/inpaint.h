@@ -98,13 +98,15 @@ struct FillOptions {
   // weight is below this is first minimised with this weight, then with its
   // own from there: the large folds form first (0: never).
   double stiff_start_lambda = 0.1;
-  // The folds-first pass is first run without the contact (the fabric energy
-  // alone, as the paper's minimisation): where its end, cleared of the
-  // obstacles, crosses and touches nothing (the exact test of a start), the
-  // guarded minimisation with the weight asked for starts there; otherwise
-  // the pass is run again from the same start, guarded. Like ARAP, the pass
-  // is then a way to a start, checked as every start is; the minimisation
-  // that gives the fill stays guarded at every step. false: always guarded.
+  // The folds-first pass is first run kept out of the analytic obstacles
+  // only (PatchContact::Scope::ObstaclesOnly: the patch may cross itself,
+  // its strip and the rest of the mesh): where its end crosses and touches
+  // nothing (the exact test of a start, cleared of the obstacles where it
+  // needs to be), the guarded minimisation with the weight asked for starts
+  // there; otherwise the pass is run again from the same start, guarded.
+  // Like ARAP, the pass is then a way to a start, checked as every start is;
+  // the minimisation that gives the fill stays guarded at every step.
+  // false: always guarded.
   bool unguarded_folds_first = true;
   // The prototype's weights in the mesh's units, mapped per hole onto
   // energy.lambda, energy.repulsion and solver.step; those must then be left
@@ -159,9 +161,12 @@ const char* to_string(StartKind start);
 // patch's, or where the patch started from its coarse levels, the coarsest
 // level's.
 enum class FoldsFirstPass {
-  None,       // none ran (the bending weight is not below stiff_start_lambda, gradient descent)
-  Unguarded,  // without the contact, its end a clean start (FillOptions::unguarded_folds_first)
-  Guarded,    // with the contact's barrier and step bound
+  None,  // none ran (the bending weight is not below stiff_start_lambda, gradient descent)
+  // Kept out of the analytic obstacles only, its end a clean start
+  // (FillOptions::unguarded_folds_first); or without any contact, where the
+  // patch is minimised unguarded (StartKind::Unguarded).
+  Unguarded,
+  Guarded,  // with the contact's barrier and step bound
 };
 
 // "none", "unguarded", "guarded".

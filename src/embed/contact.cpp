@@ -117,11 +117,17 @@ const double* PatchContact::place(const Eigen::VectorXd& x) const {
 // while no free vertex has moved more than `drift` from it, a pair closer
 // than thickness + skin - 2 drift is among them, with an anchor distance
 // below its distance + 2 drift.
-void PatchContact::refresh_candidates() const {
+void PatchContact::refresh_candidates(Scope scope) const {
   const double reach = options_.thickness + options_.skin;
   // The search keeps only the pairs closer than the reach (before sorting
   // them: most pairs of meeting boxes are farther), then their distances.
-  broad_phase_.find_within(points_.data(), reach, candidates_);
+  if (scope == Scope::Everything) {
+    broad_phase_.find_within(points_.data(), reach, candidates_);
+  } else {
+    candidates_.point_triangle.clear();
+    candidates_.edge_edge.clear();
+  }
+  candidates_scope_ = scope;
   const CollisionMesh& m = mesh();
   const double* p = points_.data();
   const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
@@ -207,11 +213,29 @@ bool PatchContact::gather(double distance, const double* move) const {
   return true;
 }
 
-double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
+double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
+                              Scope scope) const {
+  if (scope == Scope::ObstaclesOnly && obstacles_.empty()) return 0;
   place(x);
+  // Candidates of the obstacles alone do not serve the whole contact.
+  if (scope == Scope::Everything && candidates_scope_ == Scope::ObstaclesOnly)
+    has_candidates_ = false;
   if (!gather(options_.thickness, nullptr)) {
-    refresh_candidates();
+    refresh_candidates(scope);
     gather(options_.thickness, nullptr);
+  }
+  if (scope == Scope::ObstaclesOnly) {
+    gradient_.resize(points_.size(), 0.0);
+    double* full_gradient = gradient ? gradient_.data() : nullptr;
+    const double value = obstacle_barrier(full_gradient);
+    if (!gradient) return value;
+    // obstacle_barrier writes the patch faces' free corners only.
+    double* free_gradient = gradient_.data() + 3 * static_cast<size_t>(fixed_count_);
+    for (Eigen::Index k = 0; k < gradient->size(); ++k) {
+      if (std::isfinite(value)) (*gradient)[k] += free_gradient[k];
+      free_gradient[k] = 0;
+    }
+    return value;
   }
   // gradient_ is all zeros between calls: a call zeroes what it wrote, the
   // free vertices' part and the fixed corners of the active pairs, instead
@@ -246,11 +270,25 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
   return value;
 }
 
-double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const {
+double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
+                                Scope scope) const {
+  if (scope == Scope::ObstaclesOnly && obstacles_.empty()) return 1;
   place(x);
   const size_t offset = 3 * static_cast<size_t>(fixed_count_);
   std::copy(dx.data(), dx.data() + dx.size(),
             displacement_.begin() + static_cast<std::ptrdiff_t>(offset));
+  if (scope == Scope::Everything && candidates_scope_ == Scope::ObstaclesOnly)
+    has_candidates_ = false;
+  if (scope == Scope::ObstaclesOnly) {
+    bool covered = gather(0.0, displacement_.data());
+    if (!covered) {
+      for (size_t k = offset; k < points_.size(); ++k) points_[k] += displacement_[k];
+      refresh_candidates(scope);
+      place(x);
+      covered = gather(0.0, displacement_.data());
+    }
+    return obstacle_step_bound(1.0, covered);
+  }
   // The pairs that may meet during the step: the candidates' (gather), or,
   // for a step too long for them even when fresh, those of the swept boxes.
   bool covered = gather(0.0, displacement_.data());
@@ -367,13 +405,13 @@ std::vector<Vec3> PatchContact::positions(const Eigen::VectorXd& x) const {
 }
 
 double PatchObjective::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd& dx) const {
-  return contact_ ? contact_->step_bound(x, dx) : 1.0;
+  return contact_ ? contact_->step_bound(x, dx, scope_) : 1.0;
 }
 
 double PatchObjective::value(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
   const double fabric = energy_.evaluate(x, gradient).total;
   if (!contact_) return fabric;
-  const double barrier = contact_->evaluate(x, gradient);
+  const double barrier = contact_->evaluate(x, gradient, scope_);
   return std::isfinite(barrier) ? fabric + barrier : std::numeric_limits<double>::infinity();
 }
 

@@ -449,11 +449,11 @@ SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
 // weight asked for then lets the finer ones form between them. From a
 // crumpling start, a floppy patch otherwise jams in many small wrinkles that
 // cannot pass each other to make room. With a contact and `unguarded_first`
-// (FillOptions::unguarded_folds_first), the stiff pass runs without it
-// first, and its end is kept where it is a clean start (crosses_nothing,
-// after clear_obstacles with `obstacle_clearance`); the guarded pass runs
-// otherwise. Far from everything the two take the same path, the unguarded
-// one without the contact's searches and step bounds.
+// (FillOptions::unguarded_folds_first), the stiff pass runs first with the
+// contact's analytic obstacles only, and its end is kept where it is a clean
+// start (crosses_nothing, else after clear_obstacles); the guarded pass runs
+// otherwise. Where no pair comes within the thickness the two take the same
+// path, the first without the pairs' searches and step bounds.
 // `pass` receives how the stiff pass ran.
 SolverResult minimise_folds_first(const Level& level, const PatchContact* contact,
                                   const std::vector<Vec3>& start, const SolverOptions& solver,
@@ -476,7 +476,9 @@ SolverResult minimise_folds_first(const Level& level, const PatchContact* contac
       return solver.progress(p);
     };
   if (contact && unguarded_first) {
-    const SolverResult folded = minimise(stiff, nullptr, start, stiff_solver, budget);
+    const PatchObjective obstacles_only(stiff, contact, PatchContact::Scope::ObstaclesOnly);
+    const SolverResult folded =
+        minimize(obstacles_only, stiff.variables(start), stiff_solver, budget);
     if (folded.stop_reason == StopReason::Cancelled) return folded;
     std::vector<Vec3> folded_positions = stiff.positions(folded.x);
     bool clean =
