@@ -601,6 +601,8 @@ TEST(Inpaint, ASpikeThroughALargeHoleIsGoneOverFromAnUntangledCoarsestLevel) {
   ASSERT_GE(report.patch_vertex_count, options.multilevel.min_patch_vertices);
   EXPECT_EQ(report.start, StartKind::CoarseLevelsUntangled);
   EXPECT_STREQ(to_string(report.start), "coarse_levels_untangled");
+  // Over the tip the coarsest level comes near the spike: it is guarded.
+  EXPECT_EQ(report.unguarded_coarse_levels, 0);
   expect_over_the_spike(mesh, result, 1);
 }
 
@@ -623,6 +625,30 @@ TEST(Inpaint, AFoldsFirstPassFarFromEverythingRunsUnguardedToTheSameFill) {
   EXPECT_EQ(fast_hole.iterations, slow_hole.iterations);
   EXPECT_EQ(fast.mesh.positions, slow.mesh.positions);
   EXPECT_EQ(fast.mesh.faces, slow.mesh.faces);
+  EXPECT_EQ(fast_hole.crossings.total(), 0);
+}
+
+// Coarse levels far from everything are minimised with the analytic
+// obstacles only, each one's end kept (it keeps the level's thickness from
+// everything): the fill is the guarded one, bit for bit.
+TEST(Inpaint, CoarseLevelsFarFromEverythingRunUnguardedToTheSameFill) {
+  const CutMesh cut = folded_sheet_with_hole(0.6);
+  FillOptions options;
+  options.triangulate.density = 2;
+  options.multilevel.min_patch_vertices = 60;
+  FillOptions guarded = options;
+  guarded.multilevel.unguarded_first = false;
+  const FillResult fast = fill_default(cut.cut.mesh, options);
+  const FillResult slow = fill_default(cut.cut.mesh, guarded);
+  const HoleReport& fast_hole = fast.report.holes.at(0);
+  const HoleReport& slow_hole = slow.report.holes.at(0);
+  ASSERT_TRUE(fast_hole.filled) << fast_hole.reason;
+  ASSERT_TRUE(slow_hole.filled) << slow_hole.reason;
+  ASSERT_EQ(fast_hole.start, StartKind::CoarseLevels);
+  EXPECT_GE(fast_hole.unguarded_coarse_levels, 2);
+  EXPECT_EQ(slow_hole.unguarded_coarse_levels, 0);
+  EXPECT_EQ(fast_hole.iterations, slow_hole.iterations);
+  EXPECT_EQ(fast.mesh.positions, slow.mesh.positions);
   EXPECT_EQ(fast_hole.crossings.total(), 0);
 }
 

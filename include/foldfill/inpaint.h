@@ -211,6 +211,9 @@ struct HoleReport {
   // the ARAP start; 1: the membrane) with StartKind::TowardsMembrane.
   double start_blend = 0;
   FoldsFirstPass folds_first = FoldsFirstPass::None;
+  // How many coarse levels were minimised kept out of the analytic obstacles
+  // only, their ends checked (MultilevelOptions::unguarded_first).
+  int unguarded_coarse_levels = 0;
   // Set when the patch was kept but the minimisation did not end normally (it
   // diverged: the lowest-energy state seen was kept; a time limit stopped it),
   // or when the fill crosses itself, the rest of the mesh or an obstacle.

@@ -33,6 +33,18 @@ struct MultilevelOptions {
   // but engages the barrier on coarse levels that otherwise come near
   // nothing, which then cost more and end higher.
   double interpolation_clearance = 0.2;
+  // A coarse level's minimisation (after the folds-first pass, on the
+  // coarsest) runs first kept out of the analytic obstacles only
+  // (PatchContact::Scope::ObstaclesOnly), and its end is kept where it
+  // crosses and touches nothing and keeps the level's thickness (with the
+  // clearance above) from everything: what the guarded minimisation keeps
+  // for the interpolation, and where it would have taken the same path.
+  // Otherwise it runs again guarded, and so do the finer levels. Coarse
+  // levels are a way to the patch's start, checked as every start is; the
+  // patch's own minimisation stays guarded. Not tried after a guarded
+  // folds-first pass (the level then comes near something). false: always
+  // guarded.
+  bool unguarded_first = true;
 };
 
 // The mean rest length of the edges of `domain`'s patch faces (normalised).

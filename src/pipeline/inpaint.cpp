@@ -443,30 +443,46 @@ SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
   return minimize(objective, energy.variables(start), solver, budget);
 }
 
-// The minimisation of a level from a start that crosses nothing, folds first:
-// where the bending weight is below stiff_lambda, a first minimisation with
-// that weight lets the cloth form its large folds while it is stiff, and the
+// `positions` as a clean start for `level`: as they are where they cross
+// and touch nothing (crosses_nothing), else cleared of the obstacles where
+// that makes them so; nothing otherwise.
+std::optional<std::vector<Vec3>> as_clean_start(const Level& level, std::vector<Vec3> positions) {
+  if (!all_finite(positions)) return std::nullopt;
+  if (crosses_nothing(level.domain, level.contact, positions, level.energy)) return positions;
+  if (level.obstacles.empty()) return std::nullopt;
+  clear_obstacles(level.domain, level.obstacles, level.options.obstacle_clearance, positions);
+  if (crosses_nothing(level.domain, level.contact, positions, level.energy)) return positions;
+  return std::nullopt;
+}
+
+// Where a level's minimisation starts after the folds-first pass.
+struct FoldsFirst {
+  std::vector<Vec3> positions;
+  int iterations = 0;
+  FoldsFirstPass pass = FoldsFirstPass::None;
+  bool cancelled = false;
+};
+
+// The folds-first pass of a level from a start that crosses nothing: where
+// the bending weight is below stiff_lambda, a first minimisation with that
+// weight lets the cloth form its large folds while it is stiff, and the
 // weight asked for then lets the finer ones form between them. From a
 // crumpling start, a floppy patch otherwise jams in many small wrinkles that
-// cannot pass each other to make room. With a contact and `unguarded_first`
-// (FillOptions::unguarded_folds_first), the stiff pass runs first with the
-// contact's analytic obstacles only, and its end is kept where it is a clean
-// start (crosses_nothing, else after clear_obstacles); the guarded pass runs
+// cannot pass each other to make room. Guarded (`guarded`: level.contact),
+// with `unguarded_first` (FillOptions::unguarded_folds_first) the pass runs
+// first with the contact's analytic obstacles only, and its end is kept
+// where it is a clean start (as_clean_start); the guarded pass runs
 // otherwise. Where no pair comes within the thickness the two take the same
 // path, the first without the pairs' searches and step bounds.
-// `pass` receives how the stiff pass ran.
-SolverResult minimise_folds_first(const Level& level, const PatchContact* contact,
-                                  const std::vector<Vec3>& start, const SolverOptions& solver,
-                                  double stiff_lambda, bool unguarded_first, const Budget& budget,
-                                  FoldsFirstPass& pass) {
-  const EmbedDomain& domain = level.domain;
-  const FabricEnergy& energy = level.energy;
-  pass = FoldsFirstPass::None;
-  if (!(energy.options().lambda < stiff_lambda) || solver.kind != SolverKind::Fast)
-    return minimise(energy, contact, start, solver, budget);
-  EnergyOptions stiff_options = energy.options();
+FoldsFirst fold_first(const Level& level, bool guarded, const std::vector<Vec3>& start,
+                      const SolverOptions& solver, double stiff_lambda, bool unguarded_first,
+                      const Budget& budget) {
+  FoldsFirst result{start};
+  if (!(level.energy.options().lambda < stiff_lambda) || solver.kind != SolverKind::Fast)
+    return result;
+  EnergyOptions stiff_options = level.energy.options();
   stiff_options.lambda = stiff_lambda;
-  const FabricEnergy stiff(domain, stiff_options);
+  const FabricEnergy stiff(level.domain, stiff_options);
   // The same stop as the main minimisation's: a looser one (1e-4) leaves
   // folds that the main one reaches a higher minimum from (sim2: +4 %).
   SolverOptions stiff_solver = solver;
@@ -475,30 +491,56 @@ SolverResult minimise_folds_first(const Level& level, const PatchContact* contac
       p.stage = MinimisationStage::FoldsFirst;
       return solver.progress(p);
     };
-  if (contact && unguarded_first) {
-    const PatchObjective obstacles_only(stiff, contact, PatchContact::Scope::ObstaclesOnly);
+  if (guarded && unguarded_first) {
+    const PatchObjective obstacles_only(stiff, &level.contact, PatchContact::Scope::ObstaclesOnly);
     const SolverResult folded =
         minimize(obstacles_only, stiff.variables(start), stiff_solver, budget);
-    if (folded.stop_reason == StopReason::Cancelled) return folded;
-    std::vector<Vec3> folded_positions = stiff.positions(folded.x);
-    bool clean =
-        all_finite(folded_positions) && crosses_nothing(domain, *contact, folded_positions, energy);
-    if (!clean && !level.obstacles.empty() && all_finite(folded_positions)) {
-      clear_obstacles(domain, level.obstacles, level.options.obstacle_clearance, folded_positions);
-      clean = crosses_nothing(domain, *contact, folded_positions, energy);
-    }
-    if (clean) {
-      pass = FoldsFirstPass::Unguarded;
-      SolverResult result = minimise(energy, contact, folded_positions, solver, budget);
-      result.iterations += folded.iterations;
+    result.iterations = folded.iterations;
+    result.cancelled = folded.stop_reason == StopReason::Cancelled;
+    if (result.cancelled) return result;
+    if (std::optional<std::vector<Vec3>> clean = as_clean_start(level, stiff.positions(folded.x))) {
+      result.positions = std::move(*clean);
+      result.pass = FoldsFirstPass::Unguarded;
       return result;
     }
   }
-  pass = contact ? FoldsFirstPass::Guarded : FoldsFirstPass::Unguarded;
-  SolverResult folded = minimise(stiff, contact, start, stiff_solver, budget);
-  if (folded.stop_reason == StopReason::Cancelled) return folded;
-  SolverResult result = minimise(energy, contact, stiff.positions(folded.x), solver, budget);
+  const SolverResult folded =
+      minimise(stiff, guarded ? &level.contact : nullptr, start, stiff_solver, budget);
+  result.positions = stiff.positions(folded.x);
   result.iterations += folded.iterations;
+  result.cancelled = folded.stop_reason == StopReason::Cancelled;
+  result.pass = guarded ? FoldsFirstPass::Guarded : FoldsFirstPass::Unguarded;
+  return result;
+}
+
+// A coarse level's minimisation (MultilevelOptions::unguarded_first): with
+// `unguarded_first`, first with the analytic obstacles only, its end kept
+// where it is a clean start that keeps the level's thickness from
+// everything; otherwise guarded, from `start`. `unguarded` receives whether
+// the first was kept.
+SolverResult minimise_coarse_level(const Level& level, const std::vector<Vec3>& start,
+                                   const SolverOptions& solver, bool unguarded_first,
+                                   const Budget& budget, bool& unguarded) {
+  unguarded = false;
+  int tried_iterations = 0;
+  if (unguarded_first) {
+    const PatchObjective obstacles_only(level.energy, &level.contact,
+                                        PatchContact::Scope::ObstaclesOnly);
+    const SolverResult result =
+        minimize(obstacles_only, level.energy.variables(start), solver, budget);
+    if (result.stop_reason == StopReason::Cancelled) return result;
+    const std::vector<Vec3> positions = level.energy.positions(result.x);
+    const double thickness = level.contact.options().thickness;
+    if (all_finite(positions) &&
+        crosses_nothing(level.domain, level.contact, positions, level.energy) &&
+        level.contact.min_distance(result.x, thickness) >= thickness) {
+      unguarded = true;
+      return result;
+    }
+    tried_iterations = result.iterations;
+  }
+  SolverResult result = minimise(level.energy, &level.contact, start, solver, budget);
+  result.iterations += tried_iterations;
   return result;
 }
 
@@ -515,6 +557,7 @@ struct Start {
   StartKind kind = StartKind::Arap;
   double blend = 0;
   FoldsFirstPass folds_first = FoldsFirstPass::None;  // the coarsest level's, with coarse levels
+  int unguarded_coarse_levels = 0;                    // HoleReport::unguarded_coarse_levels
 };
 
 Start place_start(const FillContext& context, const HolePlan& plan, const PatchScene& scene,
@@ -531,6 +574,7 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
   Start start;
   std::optional<std::vector<Vec3>> coarse;  // the finest coarse level's result, interpolated
   bool coarsest_untangled = false;
+  bool unguarded_so_far = false;  // every coarse level so far minimised unguarded, its end kept
   for (size_t k = levels.size(); k-- > 0 && !budget.spent();) {
     const EmbedDomain& level = levels[k];
     SolverOptions level_solver = solver;
@@ -561,14 +605,23 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
       coarse.reset();
       break;
     }
-    // The coarsest level forms the large folds (minimise_folds_first).
+    // The coarsest level forms the large folds (fold_first).
+    if (k + 1 == levels.size()) {
+      const FoldsFirst folded =
+          fold_first(here, true, *from, level_solver, options.stiff_start_lambda,
+                     options.unguarded_folds_first, budget);
+      if (folded.cancelled) throw FillFailedError("cancelled");
+      start.folds_first = folded.pass;
+      unguarded_so_far =
+          options.multilevel.unguarded_first && folded.pass != FoldsFirstPass::Guarded;
+      *from = folded.positions;
+    }
+    bool unguarded = false;
     const SolverResult solved =
-        k + 1 == levels.size()
-            ? minimise_folds_first(here, &level_contact, *from, level_solver,
-                                   options.stiff_start_lambda, options.unguarded_folds_first,
-                                   budget, start.folds_first)
-            : minimise(level_energy, &level_contact, *from, level_solver, budget);
+        minimise_coarse_level(here, *from, level_solver, unguarded_so_far, budget, unguarded);
     if (solved.stop_reason == StopReason::Cancelled) throw FillFailedError("cancelled");
+    unguarded_so_far = unguarded;
+    start.unguarded_coarse_levels += unguarded;
     coarse = interpolate_patch(level, level_energy.positions(solved.x), finer);
   }
   const Level fine{plan.domain, energy, contact, obstacles.normalised, options.start};
@@ -709,16 +762,22 @@ HolePatch fill_fabric(const FillContext& context, const BoundaryLoop& loop,
       unguarded_start ? unguarded_start->timed_out : !guarded && budget.spent();
   if (!guarded && !minimise_unguarded)
     throw NoCleanStart(where, {std::move(initial.positions), start_timed_out});
+  // From the coarse levels the large folds are there; else folds first.
   const bool from_coarse_levels =
       initial.kind == StartKind::CoarseLevels || initial.kind == StartKind::CoarseLevelsUntangled;
   report.folds_first = initial.folds_first;
-  const SolverResult solved =
-      from_coarse_levels
-          ? minimise(energy, &contact, initial.positions, solver, budget)
-          : minimise_folds_first(
-                Level{domain, energy, contact, obstacles.normalised, options.start},
-                guarded ? &contact : nullptr, initial.positions, solver, options.stiff_start_lambda,
-                options.unguarded_folds_first, budget, report.folds_first);
+  report.unguarded_coarse_levels = initial.unguarded_coarse_levels;
+  FoldsFirst folded{initial.positions};
+  if (!from_coarse_levels) {
+    folded = fold_first(Level{domain, energy, contact, obstacles.normalised, options.start},
+                        guarded, initial.positions, solver, options.stiff_start_lambda,
+                        options.unguarded_folds_first, budget);
+    if (folded.cancelled) throw FillFailedError(where + ": cancelled");
+    report.folds_first = folded.pass;
+  }
+  SolverResult solved =
+      minimise(energy, guarded ? &contact : nullptr, folded.positions, solver, budget);
+  solved.iterations += folded.iterations;
   report.iterations = solved.iterations;
   report.stop_reason = solved.stop_reason;
   report.seconds.optimize = seconds_since(stage);

@@ -88,6 +88,7 @@ nlohmann::json to_json(const HoleReport& hole) {
       {"start", measured(fabric, to_string(hole.start))},
       {"start_blend", measured(fabric, hole.start_blend)},
       {"folds_first", measured(fabric, to_string(hole.folds_first))},
+      {"unguarded_coarse_levels", measured(fabric, hole.unguarded_coarse_levels)},
       {"lambda", measured(fabric, hole.lambda)},
       {"repulsion", measured(fabric, hole.repulsion)},
       {"obstacle_allowance", measured(fabric, hole.obstacle_allowance)},
