@@ -547,7 +547,8 @@ SolverResult minimise_coarse_level(const Level& level, const std::vector<Vec3>& 
 // The start of the minimisation over plan.domain and its kind: the domain's
 // ARAP start, or with the fast solver and a large patch its coarser levels,
 // the coarsest from ARAP (untangled where it and its membrane cross
-// something), each minimised and interpolated onto the next finer one; each
+// something), each minimised (the coarsest folds first: fold_first; then
+// minimise_coarse_level) and interpolated onto the next finer one; each
 // level's start made clean (clean_start). A coarse level keeps the
 // contact's thickness plus MultilevelOptions::interpolation_clearance from
 // everything, so that its interpolation crosses nothing. A coarse level with
