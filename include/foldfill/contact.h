@@ -115,6 +115,10 @@ class PatchContact {
   // none), anywhere along the step from them by `move`; false, with active_
   // untouched, where the candidates need not hold all such pairs.
   bool gather(double distance, const double* move) const;
+  // gather for `scope`: false where the candidates were searched for the
+  // obstacles alone and `scope` is everything; active_ left without pairs
+  // for the obstacles alone.
+  bool gather(Scope scope, double distance, const double* move) const;
   void select_candidates(double distance) const;
 
   // The barrier and the step bound of the patch's faces against the

@@ -213,29 +213,24 @@ bool PatchContact::gather(double distance, const double* move) const {
   return true;
 }
 
+bool PatchContact::gather(Scope scope, double distance, const double* move) const {
+  // Candidates of the obstacles alone do not serve the whole contact.
+  if (scope == Scope::Everything && candidates_scope_ == Scope::ObstaclesOnly) return false;
+  if (!gather(distance, move)) return false;
+  if (scope == Scope::ObstaclesOnly) {
+    active_.point_triangle.clear();
+    active_.edge_edge.clear();
+  }
+  return true;
+}
+
 double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
                               Scope scope) const {
   if (scope == Scope::ObstaclesOnly && obstacles_.empty()) return 0;
   place(x);
-  // Candidates of the obstacles alone do not serve the whole contact.
-  if (scope == Scope::Everything && candidates_scope_ == Scope::ObstaclesOnly)
-    has_candidates_ = false;
-  if (!gather(options_.thickness, nullptr)) {
+  if (!gather(scope, options_.thickness, nullptr)) {
     refresh_candidates(scope);
-    gather(options_.thickness, nullptr);
-  }
-  if (scope == Scope::ObstaclesOnly) {
-    gradient_.resize(points_.size(), 0.0);
-    double* full_gradient = gradient ? gradient_.data() : nullptr;
-    const double value = obstacle_barrier(full_gradient);
-    if (!gradient) return value;
-    // obstacle_barrier writes the patch faces' free corners only.
-    double* free_gradient = gradient_.data() + 3 * static_cast<size_t>(fixed_count_);
-    for (Eigen::Index k = 0; k < gradient->size(); ++k) {
-      if (std::isfinite(value)) (*gradient)[k] += free_gradient[k];
-      free_gradient[k] = 0;
-    }
-    return value;
+    gather(scope, options_.thickness, nullptr);
   }
   // gradient_ is all zeros between calls: a call zeroes what it wrote, the
   // free vertices' part and the fixed corners of the active pairs, instead
@@ -277,33 +272,25 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
   const size_t offset = 3 * static_cast<size_t>(fixed_count_);
   std::copy(dx.data(), dx.data() + dx.size(),
             displacement_.begin() + static_cast<std::ptrdiff_t>(offset));
-  if (scope == Scope::Everything && candidates_scope_ == Scope::ObstaclesOnly)
-    has_candidates_ = false;
-  if (scope == Scope::ObstaclesOnly) {
-    bool covered = gather(0.0, displacement_.data());
-    if (!covered) {
-      for (size_t k = offset; k < points_.size(); ++k) points_[k] += displacement_[k];
-      refresh_candidates(scope);
-      place(x);
-      covered = gather(0.0, displacement_.data());
-    }
-    return obstacle_step_bound(1.0, covered);
-  }
   // The pairs that may meet during the step: the candidates' (gather), or,
-  // for a step too long for them even when fresh, those of the swept boxes.
-  bool covered = gather(0.0, displacement_.data());
+  // for a step too long for them even when fresh, those of the swept boxes
+  // (none with the obstacles alone).
+  bool covered = gather(scope, 0.0, displacement_.data());
   if (!covered) {
     // Fresh candidates around the step's end: every point of the step is
     // within its move of there, and the next step starts there (most steps
     // are taken whole), so that they last for it as well.
     for (size_t k = offset; k < points_.size(); ++k) points_[k] += displacement_[k];
-    refresh_candidates();
+    refresh_candidates(scope);
     place(x);
-    covered = gather(0.0, displacement_.data());
-    if (!covered) broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
+    covered = gather(scope, 0.0, displacement_.data());
+    if (!covered && scope == Scope::Everything)
+      broad_phase_.find(points_.data(), displacement_.data(), 0.0, active_);
   }
-  const double bound =
-      collision_step_bound(mesh(), points_.data(), displacement_.data(), active_, options_.ccd);
+  const double bound = scope == Scope::Everything
+                           ? collision_step_bound(mesh(), points_.data(), displacement_.data(),
+                                                  active_, options_.ccd)
+                           : 1.0;
   return obstacle_step_bound(bound, covered);
 }
 
