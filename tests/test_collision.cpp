@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -820,6 +821,34 @@ TEST(BoxTree, EqualsBruteForce) {
   }
 }
 
+// A tree built in a given order finds what a test of every pair finds,
+// whatever the order: random, or coherent (another tree's leaf order).
+TEST(BoxTree, BuiltInAnyOrderEqualsBruteForce) {
+  Random random(19);
+  for (const int count : {0, 1, 4, 5, 9, 300, 1500}) {
+    const std::vector<Box> a = random_boxes(random, count, 2);
+    const std::vector<Box> b = random_boxes(random, count / 2 + 3, 4);
+    const BoxTree tb(b);
+    std::vector<int> shuffled(count);
+    std::iota(shuffled.begin(), shuffled.end(), 0);
+    for (int i = count - 1; i > 0; --i) std::swap(shuffled[i], shuffled[random.index(i + 1)]);
+    const BoxTree built(a);
+    for (const std::vector<int>& order : {shuffled, built.leaf_order()}) {
+      BoxTree ta;
+      ta.build_in_order(a, order);
+      EXPECT_EQ(ta.leaf_order(), order);
+      for (const double margin : {0.0, 0.3}) {
+        EXPECT_EQ(meeting_pairs(ta, tb, margin), brute_pairs(a, b, margin, false)) << count;
+        EXPECT_EQ(meeting_pairs(ta, margin), brute_pairs(a, a, margin, true)) << count;
+      }
+    }
+  }
+  BoxTree tree;
+  EXPECT_THROW(tree.build_in_order(random_boxes(random, 3, 1), {0, 1}), InternalError);
+  EXPECT_THROW(tree.build_in_order(random_boxes(random, 2, 1), {0, 2}), InternalError);
+  EXPECT_THROW(tree.build_in_order(random_boxes(random, 2, 1), {1, 1}), InternalError);
+}
+
 // Every way of splitting a search finds the same pairs, each once.
 TEST(BoxTree, SplitSearchesFindEveryPairOnce) {
   Random random(17);
@@ -974,6 +1003,24 @@ TEST(CollisionBroadPhase, EqualsBruteForceOnRandomSoups) {
       EXPECT_EQ(found.point_triangle, swept.point_triangle) << trial;
       EXPECT_EQ(found.edge_edge, swept.edge_edge) << trial;
       EXPECT_GT(found.size(), 0u);
+      // The meeting faces: every pair with a moving face whose boxes meet.
+      std::vector<IndexPair> meeting, expected_faces;
+      broad.meeting_faces(flat(soup.positions), meeting);
+      const auto& faces = soup.mesh.faces;
+      const auto moving = [&](int f) {
+        return std::max({faces[f][0], faces[f][1], faces[f][2]}) >= fixed;
+      };
+      for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+        for (int g = 0; g < static_cast<int>(faces.size()); ++g) {
+          if (f == g || !moving(f) || (moving(g) && g < f)) continue;
+          const Box bf =
+              brute_box(soup.positions, nullptr, {faces[f][0], faces[f][1], faces[f][2]}, fixed);
+          const Box bg =
+              brute_box(soup.positions, nullptr, {faces[g][0], faces[g][1], faces[g][2]}, fixed);
+          if (boxes_meet(bf, bg, 0.0)) expected_faces.push_back({f, g});
+        }
+      std::sort(expected_faces.begin(), expected_faces.end());
+      EXPECT_EQ(meeting, expected_faces) << trial;
       // No pair shares a vertex.
       for (const IndexPair& pair : found.point_triangle) {
         const Tri& t = soup.mesh.faces[pair[1]];

@@ -243,6 +243,11 @@ TEST(Contact, KeptCandidatesGiveWhatAFreshSearchGives) {
     ASSERT_GT(bound, 0) << "step " << step;
     x += 0.9 * bound * dx;
     ASSERT_EQ(crossings(problem.domain, kept, x), 0) << "step " << step;
+    // The least distance from the kept candidates (and from a fresh
+    // search) is that of a contact that never searched for candidates.
+    const PatchContact unsearched(problem.domain, layer, {}, {sphere});
+    for (const double limit : {1e-6, 0.05, kept.options().thickness})
+      ASSERT_EQ(kept.min_distance(x, limit), unsearched.min_distance(x, limit)) << "step " << step;
     const PatchContact fresh_there(problem.domain, layer, {}, {sphere});
     Eigen::VectorXd g_kept = Eigen::VectorXd::Zero(x.size()), g_fresh = g_kept;
     const double e_kept = kept.evaluate(x, &g_kept), e_fresh = fresh_there.evaluate(x, &g_fresh);
@@ -268,6 +273,13 @@ TEST(Contact, NoAcceptedStepCrossesAnything) {
   const PatchObjective unguarded(problem.energy, nullptr);
   const SolverResult free = minimize(unguarded, start);
   EXPECT_GT(crossings(problem.domain, contact, free.x), 0) << "the case does not test anything";
+  // The contact's meeting face pairs find the crossings too.
+  const auto crosses = [&](const Eigen::VectorXd& x) {
+    return any_crossing(contact.positions(x), contact.mesh().faces, contact.first_patch_face(),
+                        contact.end_patch_face(), contact.patch_face_pairs(x));
+  };
+  EXPECT_TRUE(crosses(free.x));
+  EXPECT_FALSE(crosses(start));
 
   for (SolverKind kind : {SolverKind::Fast, SolverKind::GradientDescent}) {
     SolverOptions options;
@@ -278,12 +290,58 @@ TEST(Contact, NoAcceptedStepCrossesAnything) {
     const SolverResult result = minimize(recording, start, options);
     ASSERT_GT(recording.iterates.size(), 10u);
     int crossing_iterates = 0;
-    for (const Eigen::VectorXd& x : recording.iterates)
+    for (const Eigen::VectorXd& x : recording.iterates) {
       crossing_iterates += crossings(problem.domain, contact, x) > 0;
+      crossing_iterates += crosses(x);
+    }
     EXPECT_EQ(crossing_iterates, 0);
     EXPECT_EQ(crossings(problem.domain, contact, result.x), 0);
     EXPECT_LT(problem.energy.evaluate(result.x).total, problem.energy.evaluate(start).total);
     EXPECT_GT(contact.min_distance(result.x, 1.0), 0);
+  }
+}
+
+// The patch's face pairs are every pair of faces whose closed boxes meet,
+// one of them the patch's, as a test of every pair finds them: the patch's
+// faces with all three corners on the loop (at the lattice's corners, which
+// never move) among them, at the start and after random moves.
+TEST(Contact, PatchFacePairsAreEveryPairOfMeetingBoxes) {
+  const Crumpling problem;
+  const PatchContact contact(problem.domain, layer_above(problem.domain, problem.top + 0.3), {});
+  const std::vector<Tri>& faces = contact.mesh().faces;
+  const int first = contact.first_patch_face(), end = contact.end_patch_face();
+  const int fixed = static_cast<int>(contact.mesh().fixed_count);
+  int fixed_patch_faces = 0;
+  for (int f = first; f < end; ++f)
+    fixed_patch_faces += std::max({faces[f][0], faces[f][1], faces[f][2]}) < fixed;
+  ASSERT_GT(fixed_patch_faces, 0) << "no patch face has all its corners fixed";
+  Eigen::VectorXd x = problem.energy.variables(problem.start);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (int trial = 0; trial < 3; ++trial) {
+    const std::vector<Vec3> p = contact.positions(x);
+    std::vector<Box> boxes;
+    for (const Tri& t : faces) {
+      Box box{p[t[0]], p[t[0]]};
+      for (int v : t)
+        for (int c = 0; c < 3; ++c) {
+          box.low[c] = std::min(box.low[c], p[v][c]);
+          box.high[c] = std::max(box.high[c], p[v][c]);
+        }
+      boxes.push_back(box);
+    }
+    std::vector<IndexPair> expected;
+    const int count = static_cast<int>(faces.size());
+    for (int f = 0; f < count; ++f)
+      for (int g = f + 1; g < count; ++g) {
+        const bool patch = (f >= first && f < end) || (g >= first && g < end);
+        if (patch && boxes_meet(boxes[f], boxes[g], 0.0)) expected.push_back({f, g});
+      }
+    std::vector<IndexPair> found = contact.patch_face_pairs(x);
+    for (IndexPair& pair : found) pair = {std::min(pair[0], pair[1]), std::max(pair[0], pair[1])};
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << "trial " << trial;
+    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += 0.3 * unit(random);
   }
 }
 

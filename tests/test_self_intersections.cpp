@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "foldfill/metrics.h"
 #include "embed/triangle_geometry.h"
+#include "foldfill/metrics.h"
 
 namespace foldfill {
 namespace {
@@ -119,6 +119,22 @@ TEST(SelfIntersections, CountEqualsCgalsOnCrumpledGrids) {
       const double reach = 1.5;
       const SubsetCrossings crossings = count_subset_crossings(positions, faces, subset, reach);
       EXPECT_EQ(crossings.within + crossings.with_others, expected)
+          << "trial " << trial << ", counted from face " << counted_from;
+      // From every pair of overlapping closed boxes with a counted face.
+      std::vector<std::array<int, 2>> pairs;
+      const auto box_of = [&](const Tri& t, int c, bool high) {
+        const double a = positions[t[0]][c], b = positions[t[1]][c], d = positions[t[2]][c];
+        return high ? std::max({a, b, d}) : std::min({a, b, d});
+      };
+      for (int f = 0; f < total; ++f)
+        for (int g = std::max(f + 1, counted_from); g < total; ++g) {
+          bool meet = true;
+          for (int c = 0; c < 3; ++c)
+            meet = meet && box_of(faces[f], c, false) <= box_of(faces[g], c, true) &&
+                   box_of(faces[g], c, false) <= box_of(faces[f], c, true);
+          if (meet) pairs.push_back({g, f});
+        }
+      EXPECT_EQ(any_crossing(positions, faces, counted_from, total, pairs), expected > 0)
           << "trial " << trial << ", counted from face " << counted_from;
       EXPECT_EQ(crossings.within,
                 pmp_count(positions, {faces.begin() + counted_from, faces.end()}, 0))

@@ -217,11 +217,20 @@ class CollisionBroadPhase {
   // pass that keeps only the close pairs.
   void find_within(const double* positions, double distance, CollisionCandidates& candidates);
 
+  // Every pair of faces whose boxes at `positions` meet (touching counts),
+  // one of them moving: (moving, static), and (moving, moving) with the
+  // lower index first; sorted. A superset of the intersecting pairs with a
+  // moving face. `pairs` is overwritten.
+  void meeting_faces(const double* positions, std::vector<IndexPair>& pairs);
+  // The static faces whose boxes meet `box` (touching counts), ascending.
+  std::vector<int> static_faces_meeting(const Box& box) const;
+
   const CollisionMesh& mesh() const { return mesh_; }
 
  private:
   void moving_boxes(const double* positions, const double* displacements);
   void update_trees();
+  void static_order(std::vector<int>& points, std::vector<int>& edges) const;
   template <typename KeepPointTriangle, typename KeepEdgeEdge>
   void search(const double* positions, const double* displacements, double distance,
               const KeepPointTriangle& keep_pt, const KeepEdgeEdge& keep_ee,
@@ -233,8 +242,10 @@ class CollisionBroadPhase {
   std::vector<int> static_edges_, moving_edges_, static_faces_, moving_faces_;
   BoxTree static_points_, static_edge_tree_, static_face_tree_;
   BoxTree moving_points_, moving_edge_tree_, moving_face_tree_;
-  // Costs of the moving trees when last built (see BoxTree::cost).
+  // Costs of the moving trees when last built (see BoxTree::cost), and
+  // whether they have been.
   double built_cost_[3] = {0, 0, 0};
+  bool moving_built_ = false;
   std::vector<Box> point_boxes_, edge_boxes_, face_boxes_;  // moving primitives
   std::vector<BoxTree::SearchPart> parts_[5];               // of the five searches (see find)
   std::vector<std::array<int, 2>> work_;                    // (search, part)

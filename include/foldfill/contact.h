@@ -90,6 +90,11 @@ class PatchContact {
   // is nearer (normalised).
   double min_distance(const Eigen::VectorXd& x, double limit) const;
 
+  // The pairs of faces of mesh() whose boxes meet at `x` (touching counts),
+  // one of them the patch's: a superset of the pairs that can intersect.
+  // Sorted; the lower index first where both are the patch's.
+  std::vector<IndexPair> patch_face_pairs(const Eigen::VectorXd& x) const;
+
   // The collision mesh's positions with the free vertices at `x`: its faces
   // (mesh().faces) are the domain's, in order, then the scene's.
   std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
@@ -140,6 +145,9 @@ class PatchContact {
   // (patch face, obstacle) pairs nearer than thickness + skin at the anchor,
   // in order: the others stay farther than the thickness while gather holds.
   mutable std::vector<std::array<int, 2>> obstacle_candidates_;
+  // The pairs of meeting boxes of a patch face whose corners are all fixed
+  // (an ear of the loop) and another face that does not move: they never change.
+  std::vector<IndexPair> fixed_patch_pairs_;
   mutable bool has_candidates_ = false;
   mutable Scope candidates_scope_ = Scope::Everything;  // of the last search
   mutable int candidate_searches_ = 0;

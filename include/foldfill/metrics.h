@@ -36,7 +36,7 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
 // with at least one face of index in [moving_from, moving_to), that one
 // first, degenerate faces left out, where those faces move while the others
 // stay where they were at construction: the others' box tree is built once.
-// The order is the box trees', the same for the same input.
+// Sorted (moving-moving pairs with the lower index first).
 class MovingFaceCrossings {
  public:
   MovingFaceCrossings(const std::vector<Vec3>& positions, std::vector<Tri> faces, int moving_from,
@@ -53,6 +53,15 @@ class MovingFaceCrossings {
   int moving_from_ = 0, moving_to_ = 0;
   std::unique_ptr<Fixed> fixed_;
 };
+
+// Whether a face of [counted_from, counted_to) is degenerate (collinear or
+// with a non-finite corner) or one of `pairs` (indices into `faces`, each
+// with a counted face) intersects by the rules of count_self_intersections,
+// pairs with a degenerate face left out. Given every pair of faces whose
+// closed boxes overlap, one of them counted, the same as a non-zero count
+// of count_subset_crossings over the counted faces.
+bool any_crossing(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                  int counted_from, int counted_to, const std::vector<std::array<int, 2>>& pairs);
 
 // The intersecting pairs of faces with at least one face in `subset` (by the
 // rules of count_self_intersections; a degenerate face of `subset` counts

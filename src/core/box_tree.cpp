@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "foldfill/error.h"
@@ -31,12 +33,63 @@ void extend(Box& box, const Box& other) {
 
 }  // namespace
 
-// A box being placed: its centre (infinite for an empty box, so that empty
-// boxes gather at the end of the order) and index.
-struct BoxTree::Item {
-  Vec3 centre;
-  int id;
+// The boxes being placed: their centres as floats, axis by axis (infinite
+// for an empty box, so that empty boxes gather at the end of the order), and
+// the sort keys of a node's boxes along its split axis: the centre's bits in
+// an order-preserving form above the box index, so that one integer
+// comparison orders by centre and breaks ties by index. Floats are enough:
+// the split only shapes the tree, never which pairs a search finds.
+struct BoxTree::Placement {
+  std::vector<float> centre[3];
+  std::vector<uint64_t> keys, scratch;
 };
+
+namespace {
+
+// The bits of `f` as an unsigned integer in the same order as the floats.
+uint32_t ordered_bits(float f) {
+  uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits & 0x80000000u ? ~bits : bits | 0x80000000u;
+}
+
+// Puts the key that sorted order would put at `nth` there, the smaller ones
+// before it and the larger after, like std::nth_element on distinct keys
+// (quickselect, median-of-three pivots), with a partition without branches
+// on the keys: a tree's centres come in no useful order and a branch per
+// key would mispredict half the time. `scratch` holds at least as many.
+void select_nth(uint64_t* keys, int nth, int count, uint64_t* scratch) {
+  int begin = 0, end = count, rounds = 0;
+  while (end - begin > 16) {
+    if (++rounds > 64) {  // a pathological order: std::nth_element's guarantee
+      std::nth_element(keys + begin, keys + nth, keys + end);
+      return;
+    }
+    const uint64_t a = keys[begin], b = keys[begin + (end - begin) / 2], c = keys[end - 1];
+    const uint64_t pivot = std::max(std::min(a, b), std::min(std::max(a, b), c));
+    int low = 0, high = end - begin - 1;
+    for (int k = begin; k < end; ++k) {
+      const uint64_t key = keys[k];
+      const int below = key < pivot;
+      // Both free ends receive the key; the one it does not belong to stays
+      // free and is written again later.
+      scratch[low] = key;
+      scratch[high] = key;
+      low += below;
+      high -= 1 - below;
+    }
+    std::copy(scratch, scratch + (end - begin), keys + begin);
+    const int split = begin + low;  // keys[split] is the pivot's or above
+    if (nth < split) {
+      end = split;
+    } else {
+      begin = split;
+    }
+  }
+  std::sort(keys + begin, keys + end);
+}
+
+}  // namespace
 
 void BoxTree::build(const std::vector<Box>& boxes) {
   const int n = static_cast<int>(boxes.size());
@@ -44,28 +97,29 @@ void BoxTree::build(const std::vector<Box>& boxes) {
   ids_.resize(n);
   boxes_.resize(n);
   if (n == 0) return;
-  std::vector<Item> items(n);
+  Placement placement;
+  for (int c = 0; c < 3; ++c) placement.centre[c].resize(n);
+  placement.keys.resize(n);
+  placement.scratch.resize(n);
   for (int i = 0; i < n; ++i) {
     const Box& box = boxes[i];
     const bool empty = is_empty(box);
-    for (int c = 0; c < 3; ++c) {
-      items[i].centre[c] = empty ? kInfinity : 0.5 * box.low[c] + 0.5 * box.high[c];
-    }
-    items[i].id = i;
+    for (int c = 0; c < 3; ++c)
+      placement.centre[c][i] = empty ? std::numeric_limits<float>::infinity()
+                                     : static_cast<float>(0.5 * box.low[c] + 0.5 * box.high[c]);
+    ids_[i] = i;
   }
   nodes_.reserve(2 * (n / (kLeafSize / 2) + 1));
-  build_node(items, 0, n);
-  for (int k = 0; k < n; ++k) {
-    ids_[k] = items[k].id;
-    boxes_[k] = canonical(boxes[ids_[k]]);
-  }
+  build_node(&placement, 0, n);
+  for (int k = 0; k < n; ++k) boxes_[k] = canonical(boxes[ids_[k]]);
   refit_nodes();
 }
 
-// The node of items [begin, end): a leaf for a few boxes, else split at the
+// The node of boxes [begin, end) of ids_: a leaf for a few boxes, else its
+// two halves; with `placement`, first ordered so that they split at the
 // median of the centres along the axis where they spread most (ties by box
-// index, so that the split is unique).
-void BoxTree::build_node(std::vector<Item>& items, int begin, int end) {
+// index, so that the split is unique), without it in the order they are.
+void BoxTree::build_node(Placement* placement, int begin, int end) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
@@ -73,28 +127,55 @@ void BoxTree::build_node(std::vector<Item>& items, int begin, int end) {
     nodes_[index].count = end - begin;
     return;
   }
-  double low[3] = {kInfinity, kInfinity, kInfinity}, high[3] = {-kInfinity, -kInfinity, -kInfinity};
-  for (int k = begin; k < end; ++k) {
-    const Vec3& c = items[k].centre;
-    if (!std::isfinite(c[0])) continue;
-    for (int a = 0; a < 3; ++a) {
-      low[a] = std::min(low[a], c[a]);
-      high[a] = std::max(high[a], c[a]);
-    }
-  }
-  int axis = 0;
-  for (int a = 1; a < 3; ++a) {
-    if (high[a] - low[a] > high[axis] - low[axis]) axis = a;
-  }
   const int mid = begin + (end - begin) / 2;
-  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                   [axis](const Item& p, const Item& q) {
-                     return p.centre[axis] < q.centre[axis] ||
-                            (p.centre[axis] == q.centre[axis] && p.id < q.id);
-                   });
-  build_node(items, begin, mid);
+  if (placement) {
+    float low[3], high[3];
+    for (int a = 0; a < 3; ++a) {
+      low[a] = std::numeric_limits<float>::infinity();
+      high[a] = -std::numeric_limits<float>::infinity();
+    }
+    for (int k = begin; k < end; ++k) {
+      const int id = ids_[k];
+      if (!std::isfinite(placement->centre[0][id])) continue;
+      for (int a = 0; a < 3; ++a) {
+        low[a] = std::min(low[a], placement->centre[a][id]);
+        high[a] = std::max(high[a], placement->centre[a][id]);
+      }
+    }
+    int axis = 0;
+    for (int a = 1; a < 3; ++a) {
+      if (high[a] - low[a] > high[axis] - low[axis]) axis = a;
+    }
+    const float* centre = placement->centre[axis].data();
+    uint64_t* keys = placement->keys.data();
+    for (int k = begin; k < end; ++k)
+      keys[k] = uint64_t{ordered_bits(centre[ids_[k]])} << 32 | static_cast<uint32_t>(ids_[k]);
+    select_nth(keys + begin, mid - begin, end - begin, placement->scratch.data());
+    for (int k = begin; k < end; ++k) ids_[k] = static_cast<int>(keys[k] & 0xffffffffu);
+  }
+  build_node(placement, begin, mid);
   nodes_[index].first = static_cast<int>(nodes_.size());
-  build_node(items, mid, end);
+  build_node(placement, mid, end);
+}
+
+void BoxTree::build_in_order(const std::vector<Box>& boxes, const std::vector<int>& order) {
+  const int n = static_cast<int>(boxes.size());
+  if (static_cast<int>(order.size()) != n)
+    throw InternalError("box tree: an order of another number of boxes");
+  std::vector<char> seen(n, 0);
+  for (int id : order) {
+    if (id < 0 || id >= n || seen[id])
+      throw InternalError("box tree: an order that is not a permutation");
+    seen[id] = 1;
+  }
+  nodes_.clear();
+  ids_ = order;
+  boxes_.resize(n);
+  if (n == 0) return;
+  for (int k = 0; k < n; ++k) boxes_[k] = canonical(boxes[ids_[k]]);
+  nodes_.reserve(2 * (n / (kLeafSize / 2) + 1));
+  build_node(nullptr, 0, n);
+  refit_nodes();
 }
 
 // Children follow their parent: one backward pass sets every node's box.

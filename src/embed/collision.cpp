@@ -114,15 +114,47 @@ CollisionBroadPhase::CollisionBroadPhase(const CollisionMesh& mesh, const double
   for (int v = 0; v < fixed; ++v) points.push_back(point_box(v, positions, nullptr));
   for (int e : static_edges_) edges.push_back(edge_box(mesh_.edges[e], positions, nullptr));
   for (int f : static_faces_) faces.push_back(face_box(mesh_.faces[f], positions, nullptr));
-  moving_boxes(positions, nullptr);
-  // The six builds are independent: one per thread at a time.
-  BoxTree* trees[6] = {&static_points_, &static_edge_tree_, &static_face_tree_,
-                       &moving_points_, &moving_edge_tree_, &moving_face_tree_};
-  const std::vector<Box>* boxes[6] = {&points,       &edges,       &faces,
-                                      &point_boxes_, &edge_boxes_, &face_boxes_};
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int k = 0; k < 6; ++k) trees[k]->build(*boxes[k]);
-  for (int k = 0; k < 3; ++k) built_cost_[k] = trees[3 + k]->cost();
+  // The static faces' tree is built; the static points' and edges' follow
+  // its leaf order (static_order), in linear time. The moving trees are
+  // built at the first search, where the free vertices are placed.
+  static_face_tree_.build(faces);
+  std::vector<int> point_order, edge_order;
+  static_order(point_order, edge_order);
+  static_points_.build_in_order(points, point_order);
+  static_edge_tree_.build_in_order(edges, edge_order);
+}
+
+// The fixed vertices in the order the static faces' leaves first reach
+// them (those of no static face last, ascending), and the static edges by
+// the first of their corners in that order (ties ascending): orders as
+// coherent as the faces' tree.
+void CollisionBroadPhase::static_order(std::vector<int>& points, std::vector<int>& edges) const {
+  const int fixed = mesh_.fixed_count;
+  std::vector<int> rank(fixed, -1);
+  points.clear();
+  points.reserve(fixed);
+  for (int k : static_face_tree_.leaf_order())
+    for (int v : mesh_.faces[static_faces_[k]])
+      if (rank[v] < 0) {
+        rank[v] = static_cast<int>(points.size());
+        points.push_back(v);
+      }
+  for (int v = 0; v < fixed; ++v)
+    if (rank[v] < 0) {
+      rank[v] = static_cast<int>(points.size());
+      points.push_back(v);
+    }
+  // A counting sort of the static edges by their first corner's rank.
+  std::vector<int> start(fixed + 1, 0);
+  const int count = static_cast<int>(static_edges_.size());
+  const auto key = [&](int k) {
+    const auto& e = mesh_.edges[static_edges_[k]];
+    return std::min(rank[e[0]], rank[e[1]]);
+  };
+  for (int k = 0; k < count; ++k) ++start[key(k) + 1];
+  for (int r = 0; r < fixed; ++r) start[r + 1] += start[r];
+  edges.assign(count, 0);
+  for (int k = 0; k < count; ++k) edges[start[key(k)]++] = k;
 }
 
 void CollisionBroadPhase::moving_boxes(const double* positions, const double* displacements) {
@@ -170,9 +202,12 @@ void CollisionBroadPhase::update_trees() {
   const std::vector<Box>* boxes[3] = {&point_boxes_, &edge_boxes_, &face_boxes_};
   bool rebuild[3];
   for (int k = 0; k < 3; ++k) {
+    rebuild[k] = !moving_built_;
+    if (rebuild[k]) continue;
     trees[k]->refit(*boxes[k]);
     rebuild[k] = trees[k]->cost() > kRebuildFactor * built_cost_[k];
   }
+  moving_built_ = true;
 #pragma omp parallel for schedule(dynamic, 1) if (rebuild[0] + rebuild[1] + rebuild[2] > 1)
   for (int k = 0; k < 3; ++k) {
     if (!rebuild[k]) continue;
@@ -284,6 +319,27 @@ void CollisionBroadPhase::find_within(const double* positions, double distance,
                                       vec(positions, b[0]), vec(positions, b[1])) < distance_sq;
   };
   search(positions, nullptr, distance, near_pt, near_ee, candidates);
+}
+
+void CollisionBroadPhase::meeting_faces(const double* positions, std::vector<IndexPair>& pairs) {
+  moving_boxes(positions, nullptr);
+  update_trees();
+  pairs.clear();
+  moving_face_tree_.for_each_meeting_pair(static_face_tree_, 0.0, [&](int a, int b) {
+    pairs.push_back({moving_faces_[a], static_faces_[b]});
+  });
+  moving_face_tree_.for_each_meeting_pair(0.0, [&](int a, int b) {
+    pairs.push_back({std::min(moving_faces_[a], moving_faces_[b]),
+                     std::max(moving_faces_[a], moving_faces_[b])});
+  });
+  sort_index_pairs(pairs, static_cast<int>(mesh_.faces.size()));
+}
+
+std::vector<int> CollisionBroadPhase::static_faces_meeting(const Box& box) const {
+  std::vector<int> faces;
+  static_face_tree_.for_each_meeting(box, 0.0, [&](int f) { faces.push_back(static_faces_[f]); });
+  std::sort(faces.begin(), faces.end());
+  return faces;
 }
 
 namespace {

@@ -101,6 +101,20 @@ PatchContact::PatchContact(const EmbedDomain& domain, const PatchScene& scene,
   broad_phase_ =
       CollisionBroadPhase(make_collision_mesh(faces, vertex_count, fixed_count_), points_.data());
   displacement_.assign(points_.size(), 0.0);
+  for (int f = first_patch_face_; f < end_patch_face_; ++f) {
+    const Tri& t = faces[f];
+    if (std::max({t[0], t[1], t[2]}) >= fixed_count_) continue;
+    Box box;
+    for (int c = 0; c < 3; ++c) {
+      box.low[c] = std::min({points_[3 * t[0] + c], points_[3 * t[1] + c], points_[3 * t[2] + c]});
+      box.high[c] = std::max({points_[3 * t[0] + c], points_[3 * t[1] + c], points_[3 * t[2] + c]});
+    }
+    for (int g : broad_phase_.static_faces_meeting(box)) {
+      // A pair of two such faces once.
+      const bool fixed_patch_face = g >= first_patch_face_ && g < end_patch_face_;
+      if (g != f && !(fixed_patch_face && g < f)) fixed_patch_pairs_.push_back({f, g});
+    }
+  }
 }
 
 const double* PatchContact::place(const Eigen::VectorXd& x) const {
@@ -356,10 +370,24 @@ double PatchContact::obstacle_step_bound(double t_max, bool candidates_cover) co
   return t_max;
 }
 
+std::vector<IndexPair> PatchContact::patch_face_pairs(const Eigen::VectorXd& x) const {
+  std::vector<IndexPair> pairs;
+  broad_phase_.meeting_faces(place(x), pairs);
+  if (fixed_patch_pairs_.empty()) return pairs;
+  pairs.insert(pairs.end(), fixed_patch_pairs_.begin(), fixed_patch_pairs_.end());
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
 double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const {
   const double* p = place(x);
-  CollisionCandidates near;
-  broad_phase_.find(p, nullptr, limit, near);
+  // The candidates hold every pair nearer than `limit` where gather holds
+  // for it (as after an evaluation at x); a search otherwise, which leaves
+  // the candidates as they are.
+  CollisionCandidates found;
+  const bool gathered = candidates_scope_ == Scope::Everything && gather(limit, nullptr);
+  if (!gathered) broad_phase_.find(p, nullptr, limit, found);
+  const CollisionCandidates& near = gathered ? active_ : found;
   const CollisionMesh& m = mesh();
   const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   double smallest = limit * limit;

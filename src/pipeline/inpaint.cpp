@@ -341,18 +341,15 @@ std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obst
 // Whether the patch at `positions` crosses nothing (itself, its strip, the
 // scene: exact predicates) and touches nothing (the barrier is finite and no
 // pair is nearer than kTouching).
-bool crosses_nothing(const EmbedDomain& domain, const PatchContact& contact,
-                     const std::vector<Vec3>& positions, const FabricEnergy& energy) {
+bool crosses_nothing(const PatchContact& contact, const std::vector<Vec3>& positions,
+                     const FabricEnergy& energy) {
   const Eigen::VectorXd x = energy.variables(positions);
   if (!std::isfinite(contact.evaluate(x, nullptr))) return false;
   // A pair nearer than this may cross once the patch is back in the mesh's
   // units, rounded: it touches.
   if (contact.min_distance(x, kTouching) < kTouching) return false;
-  std::vector<int> patch(domain.faces.size() - domain.strip_face_count);
-  std::iota(patch.begin(), patch.end(), domain.strip_face_count);
-  const SubsetCrossings crossings =
-      count_subset_crossings(contact.positions(x), contact.mesh().faces, patch, 0.0);
-  return crossings.within == 0 && crossings.with_others == 0;
+  return !any_crossing(contact.positions(x), contact.mesh().faces, contact.first_patch_face(),
+                       contact.end_patch_face(), contact.patch_face_pairs(x));
 }
 
 // One level of the start: a domain with its energy and contact.
@@ -377,15 +374,15 @@ std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vect
   for (double clearance : clearances(domain, level.obstacles, level.options.obstacle_clearance)) {
     std::vector<Vec3> start = candidate;
     clear_obstacles(domain, level.obstacles, clearance, start);
-    if (crosses_nothing(domain, level.contact, start, level.energy)) return start;
+    if (crosses_nothing(level.contact, start, level.energy)) return start;
     if (!level.obstacles.empty()) {
       start = candidate;
       lift_over_obstacles(domain, level.obstacles, clearance, start);
-      if (crosses_nothing(domain, level.contact, start, level.energy)) return start;
+      if (crosses_nothing(level.contact, start, level.energy)) return start;
     }
     std::vector<Vec3> membrane = membrane_shape;
     clear_obstacles(domain, level.obstacles, clearance, membrane);
-    if (!crosses_nothing(domain, level.contact, membrane, level.energy)) continue;
+    if (!crosses_nothing(level.contact, membrane, level.energy)) continue;
     const auto mix = [&](double s) {
       std::vector<Vec3> x = candidate;
       for (int v = domain.fixed_count; v < domain.vertex_count(); ++v)
@@ -396,7 +393,7 @@ std::optional<std::vector<Vec3>> clean_start(const Level& level, const std::vect
     double clean = 1, crossing = 0;
     for (int step = 0; step < level.options.membrane_bisections; ++step) {
       const double s = 0.5 * (clean + crossing);
-      (crosses_nothing(domain, level.contact, mix(s), level.energy) ? clean : crossing) = s;
+      (crosses_nothing(level.contact, mix(s), level.energy) ? clean : crossing) = s;
     }
     blend = clean;
     return clean == 1 ? membrane : mix(clean);
@@ -426,7 +423,7 @@ std::optional<std::vector<Vec3>> untangled(const Level& level, const std::vector
     variables = minimize(objective, variables, separate, budget).x;
     result = level.energy.positions(variables);
   }
-  if (!crosses_nothing(level.domain, level.contact, result, level.energy)) return std::nullopt;
+  if (!crosses_nothing(level.contact, result, level.energy)) return std::nullopt;
   return result;
 }
 
@@ -448,10 +445,10 @@ SolverResult minimise(const FabricEnergy& energy, const PatchContact* contact,
 // that makes them so; nothing otherwise.
 std::optional<std::vector<Vec3>> as_clean_start(const Level& level, std::vector<Vec3> positions) {
   if (!all_finite(positions)) return std::nullopt;
-  if (crosses_nothing(level.domain, level.contact, positions, level.energy)) return positions;
+  if (crosses_nothing(level.contact, positions, level.energy)) return positions;
   if (level.obstacles.empty()) return std::nullopt;
   clear_obstacles(level.domain, level.obstacles, level.options.obstacle_clearance, positions);
-  if (crosses_nothing(level.domain, level.contact, positions, level.energy)) return positions;
+  if (crosses_nothing(level.contact, positions, level.energy)) return positions;
   return std::nullopt;
 }
 
@@ -531,8 +528,7 @@ SolverResult minimise_coarse_level(const Level& level, const std::vector<Vec3>& 
     if (result.stop_reason == StopReason::Cancelled) return result;
     const std::vector<Vec3> positions = level.energy.positions(result.x);
     const double thickness = level.contact.options().thickness;
-    if (all_finite(positions) &&
-        crosses_nothing(level.domain, level.contact, positions, level.energy) &&
+    if (all_finite(positions) && crosses_nothing(level.contact, positions, level.energy) &&
         level.contact.min_distance(result.x, thickness) >= thickness) {
       unguarded = true;
       return result;
@@ -630,7 +626,7 @@ Start place_start(const FillContext& context, const HolePlan& plan, const PatchS
   // triangles cut across a tight fold: the domain then starts from ARAP.
   if (coarse) {
     clear_obstacles(plan.domain, obstacles.normalised, options.start.obstacle_clearance, *coarse);
-    if (crosses_nothing(plan.domain, contact, *coarse, energy)) {
+    if (crosses_nothing(contact, *coarse, energy)) {
       start.positions = std::move(*coarse);
       start.kind = coarsest_untangled ? StartKind::CoarseLevelsUntangled : StartKind::CoarseLevels;
       return start;

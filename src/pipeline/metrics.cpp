@@ -264,6 +264,29 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
   return count;
 }
 
+bool any_crossing(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
+                  int counted_from, int counted_to, const std::vector<std::array<int, 2>>& pairs) {
+  // Each face's state, found when first needed: 0 unknown, 1 proper, 2 degenerate.
+  std::vector<unsigned char> state(faces.size(), 0);
+  const auto degenerate = [&](int f) {
+    if (state[f] == 0) {
+      const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
+                 &r = positions[faces[f][2]];
+      state[f] = !is_finite(p) || !is_finite(q) || !is_finite(r) ||
+                         CGAL::collinear(point(p), point(q), point(r))
+                     ? 2
+                     : 1;
+    }
+    return state[f] == 2;
+  };
+  for (int f = counted_from; f < counted_to; ++f)
+    if (degenerate(f)) return true;
+  for (const auto& [f, g] : pairs)
+    if (!degenerate(f) && !degenerate(g) && faces_intersect(positions, faces[f], faces[g]))
+      return true;
+  return false;
+}
+
 struct MovingFaceCrossings::Fixed {
   BoxTree tree;
   std::vector<int> face;  // of each box of the tree
@@ -305,13 +328,15 @@ std::vector<std::pair<int, int>> MovingFaceCrossings::pairs(
   const BoxTree moving(boxes);
   moving.for_each_meeting_pair(0.0, [&](int i, int j) {
     if (faces_intersect(positions, faces_[face[i]], faces_[face[j]]))
-      found.emplace_back(face[i], face[j]);
+      found.emplace_back(std::min(face[i], face[j]), std::max(face[i], face[j]));
   });
-  if (fixed_->face.empty()) return found;
-  moving.for_each_meeting_pair(fixed_->tree, 0.0, [&](int i, int j) {
-    if (faces_intersect(positions, faces_[face[i]], faces_[fixed_->face[j]]))
-      found.emplace_back(face[i], fixed_->face[j]);
-  });
+  if (!fixed_->face.empty())
+    moving.for_each_meeting_pair(fixed_->tree, 0.0, [&](int i, int j) {
+      if (faces_intersect(positions, faces_[face[i]], faces_[fixed_->face[j]]))
+        found.emplace_back(face[i], fixed_->face[j]);
+    });
+  // Sorted: the order does not depend on the trees' shapes.
+  std::sort(found.begin(), found.end());
   return found;
 }
 
