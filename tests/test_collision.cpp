@@ -1546,6 +1546,37 @@ TEST(ObstacleDistance, AgainstSampling) {
   }
 }
 
+// A cylinder's capsule value is at most the cylinder's least signed
+// distance over the triangle, and equal to it (to the sampling's step) where
+// it says so: in many trials beside the side, never beyond a cap.
+TEST(ObstacleDistance, CylinderCapsuleValueAndWhereItIsExact) {
+  Random random(47);
+  const int n = 200;
+  int exact_count = 0, inexact_count = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const Obstacle o = random_obstacle(random, 1);
+    const std::array<Vec3, 3> t = {random.point(-2, 2), random.point(-2, 2), random.point(-2, 2)};
+    bool exact = false;
+    const double value = triangle_cylinder_distance(o, t[0], t[1], t[2], exact);
+    EXPECT_EQ(value, triangle_obstacle_distance(o, t[0], t[1], t[2])) << "trial " << trial;
+    const double step = longest_edge(t) / n;
+    const double cylinder =
+        sampled_minimum(t, n, [&](const Vec3& p) { return signed_distance(o, p); });
+    EXPECT_LE(value, cylinder + 1e-12) << "trial " << trial;
+    if (exact) {
+      EXPECT_GT(value, 0) << "trial " << trial;
+      EXPECT_GE(value, cylinder - step - 1e-12) << "trial " << trial;
+    }
+    (exact ? exact_count : inexact_count) += 1;
+  }
+  EXPECT_GT(exact_count, 50);
+  EXPECT_GT(inexact_count, 50);
+  Obstacle sphere;
+  sphere.type = Obstacle::Type::Sphere;
+  bool exact = false;
+  EXPECT_THROW(triangle_cylinder_distance(sphere, kZero, kZero, kZero, exact), UsageError);
+}
+
 // Triangles through the solid, with every corner outside it (the face
 // crosses) or one corner inside: never a positive value.
 TEST(ObstacleDistance, CrossingTrianglesAreNotPositive) {

@@ -145,6 +145,14 @@ double edge_edge_ccd(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3&
 // value has no direction). Throws UsageError for a mesh obstacle.
 double triangle_obstacle_distance(const Obstacle& obstacle, const Vec3& a, const Vec3& b,
                                   const Vec3& c, std::array<Vec3, 3>* gradient = nullptr);
+// For a cylinder: triangle_obstacle_distance, its capsule's value, which is
+// at most the least signed distance over the triangle to the cylinder
+// itself; `exact` receives whether the two are equal for sure: where the
+// triangle is outside the capsule and the point of the axis segment nearest
+// to it lies strictly inside the segment (the triangle's nearest point then
+// lies beside the side). Throws UsageError for another obstacle.
+double triangle_cylinder_distance(const Obstacle& cylinder, const Vec3& a, const Vec3& b,
+                                  const Vec3& c, bool& exact);
 
 // A conservative time of impact in [0, t_max] for the triangle (a, b, c)
 // moving by (da, db, dc) against the fixed obstacle, for the value of

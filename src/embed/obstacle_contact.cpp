@@ -105,6 +105,20 @@ double segment_triangle_distance_squared(const Vec3& s0, const Vec3& s1, const V
 
 // d = sqrt(d2) - R for the sphere and the capsule; the gradient of sqrt(d2)
 // is that of d2 over 2 sqrt(d2), and taken as zero at d2 = 0.
+double triangle_cylinder_distance(const Obstacle& cylinder, const Vec3& a, const Vec3& b,
+                                  const Vec3& c, bool& exact) {
+  if (cylinder.type != Obstacle::Type::Cylinder)
+    throw UsageError("triangle_cylinder_distance: not a cylinder");
+  Vec3 s0, s1;
+  axis_segment(cylinder, s0, s1);
+  // The weights of the segment's ends in its nearest point are the shares
+  // of their gradients: both non-zero where that point is inside.
+  std::array<Vec3, 5> g;
+  const double d = std::sqrt(segment_triangle_distance_squared(s0, s1, a, b, c, &g));
+  exact = d > cylinder.radius && norm(g[0]) > 0 && norm(g[1]) > 0;
+  return d - cylinder.radius;
+}
+
 double triangle_obstacle_distance(const Obstacle& obstacle, const Vec3& a, const Vec3& b,
                                   const Vec3& c, std::array<Vec3, 3>* gradient) {
   require_analytic(obstacle, "triangle_obstacle_distance");

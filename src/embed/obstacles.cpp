@@ -13,10 +13,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "embed/triangle_geometry.h"
+#include "foldfill/collision.h"
 #include "foldfill/error.h"
 #include "foldfill/io.h"
 #include "foldfill/vec3.h"
-#include "embed/triangle_geometry.h"
 
 namespace foldfill {
 namespace {
@@ -470,15 +471,29 @@ Obstacle normalized(const Obstacle& obstacle, const Vec3& origin, double scale) 
   return result;
 }
 
+// Each: the bound by the centroid, and for a cylinder its capsule's value
+// (at most its own, equal where it says so), before a search over the triangle.
 bool crosses(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double tolerance) {
   if (obstacle.type == Obstacle::Type::Mesh) return obstacle.mesh->crosses(triangle);
   if (lower_bound(obstacle, triangle) >= -tolerance) return false;
+  bool exact = false;
+  if (obstacle.type == Obstacle::Type::Cylinder &&
+      triangle_cylinder_distance(obstacle, triangle[0], triangle[1], triangle[2], exact) >=
+          -tolerance)
+    return false;
   return smallest_signed_distance(obstacle, triangle, -tolerance) < -tolerance;
 }
 
 double distance(const Obstacle& obstacle, const std::array<Vec3, 3>& triangle, double limit) {
   if (obstacle.type == Obstacle::Type::Mesh) return obstacle.mesh->distance(triangle, limit);
   if (lower_bound(obstacle, triangle) >= limit) return limit;
+  if (obstacle.type == Obstacle::Type::Cylinder) {
+    bool exact = false;
+    const double capsule =
+        triangle_cylinder_distance(obstacle, triangle[0], triangle[1], triangle[2], exact);
+    if (capsule >= limit) return limit;
+    if (exact) return std::clamp(capsule, 0.0, limit);
+  }
   return std::clamp(smallest_signed_distance(obstacle, triangle, 0.0), 0.0, limit);
 }
 

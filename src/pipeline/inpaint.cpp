@@ -339,12 +339,12 @@ std::vector<double> clearances(const EmbedDomain& domain, const std::vector<Obst
 }
 
 // Whether the patch at `positions` crosses nothing (itself, its strip, the
-// scene: exact predicates) and touches nothing (the barrier is finite and no
-// pair is nearer than kTouching).
+// scene: exact predicates) and touches nothing: no pair (and no face
+// against an obstacle) is nearer than kTouching, so that the barrier is
+// finite there.
 bool crosses_nothing(const PatchContact& contact, const std::vector<Vec3>& positions,
                      const FabricEnergy& energy) {
   const Eigen::VectorXd x = energy.variables(positions);
-  if (!std::isfinite(contact.evaluate(x, nullptr))) return false;
   // A pair nearer than this may cross once the patch is back in the mesh's
   // units, rounded: it touches.
   if (contact.min_distance(x, kTouching) < kTouching) return false;

@@ -517,7 +517,24 @@ std::vector<std::vector<int>> faces_near_boxes(const std::vector<Vec3>& position
                                                const std::vector<Box3>& boxes) {
   std::vector<std::vector<int>> near(boxes.size());
   const BoxTree tree(boxes);  // an empty or non-finite box meets nothing
+  // The box of all the boxes: most faces of a large mesh lie beyond it along
+  // some axis, which three comparisons per axis tell.
+  Box3 all{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+  for (const Box3& b : boxes) {
+    if (is_empty(b)) continue;
+    for (int c = 0; c < 3; ++c) {
+      all.low[c] = std::min(all.low[c], b.low[c]);
+      all.high[c] = std::max(all.high[c], b.high[c]);
+    }
+  }
   for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
+               &r = positions[faces[f][2]];
+    bool beyond = false;
+    for (int c = 0; c < 3; ++c)
+      beyond |= (p[c] < all.low[c] && q[c] < all.low[c] && r[c] < all.low[c]) |
+                (p[c] > all.high[c] && q[c] > all.high[c] && r[c] > all.high[c]);
+    if (beyond) continue;
     Box3 box;
     if (!face_box(positions, faces[f], box)) continue;
     tree.for_each_meeting(box, 0.0, [&](int b) { near[b].push_back(f); });
@@ -583,6 +600,14 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
     grown.push_back(face);
   }
   double& best = result.min_distance;
+  // The pairs that may be nearer than the reach, with a lower bound on
+  // their distance: measured afterwards nearest bound first, until the
+  // bound passes the least distance found (branch and bound).
+  struct Bounded {
+    double bound;
+    int i, j;
+  };
+  std::vector<Bounded> near;
   for_each_overlapping_pair(grown, [&](int i, int j) {
     const int f = face_of[i], g = face_of[j];
     const bool intersect =
@@ -591,14 +616,24 @@ SubsetCrossings count_subset_crossings(const std::vector<Vec3>& positions,
     if (best > 0 && !share_a_vertex(faces[f], faces[g])) {
       if (intersect) {
         best = 0;
-      } else if (box_gap(boxes[i], boxes[j]) < best &&
-                 norm(sub(centroid[i], centroid[j])) - spread[i] - spread[j] < best) {
-        best = std::min(best, geometry::disjoint_triangle_distance(corners(positions, faces[f]),
-                                                                   corners(positions, faces[g])));
+      } else {
+        const double bound = std::max(box_gap(boxes[i], boxes[j]),
+                                      norm(sub(centroid[i], centroid[j])) - spread[i] - spread[j]);
+        if (bound < best) near.push_back({bound, i, j});
       }
     }
     return true;
   });
+  if (!(best > 0)) return result;
+  std::sort(near.begin(), near.end(), [](const Bounded& a, const Bounded& b) {
+    return a.bound < b.bound || (a.bound == b.bound && (a.i < b.i || (a.i == b.i && a.j < b.j)));
+  });
+  for (const Bounded& pair : near) {
+    if (!(pair.bound < best)) break;
+    best = std::min(
+        best, geometry::disjoint_triangle_distance(corners(positions, faces[face_of[pair.i]]),
+                                                   corners(positions, faces[face_of[pair.j]])));
+  }
   return result;
 }
 
