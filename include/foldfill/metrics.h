@@ -32,28 +32,6 @@ CurvatureStats gaussian_curvature_stats(const std::vector<Vec3>& positions,
 int count_self_intersections(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                              int counted_from = 0);
 
-// The intersecting pairs of faces (by the rules of count_self_intersections)
-// with at least one face of index in [moving_from, moving_to), that one
-// first, degenerate faces left out, where those faces move while the others
-// stay where they were at construction: the others' box tree is built once.
-// Sorted (moving-moving pairs with the lower index first).
-class MovingFaceCrossings {
- public:
-  MovingFaceCrossings(const std::vector<Vec3>& positions, std::vector<Tri> faces, int moving_from,
-                      int moving_to);
-  ~MovingFaceCrossings();
-  MovingFaceCrossings(const MovingFaceCrossings&) = delete;
-  MovingFaceCrossings& operator=(const MovingFaceCrossings&) = delete;
-  // `positions`: the fixed faces' vertices where they were, the moving ones anywhere.
-  std::vector<std::pair<int, int>> pairs(const std::vector<Vec3>& positions) const;
-
- private:
-  struct Fixed;
-  std::vector<Tri> faces_;
-  int moving_from_ = 0, moving_to_ = 0;
-  std::unique_ptr<Fixed> fixed_;
-};
-
 // Whether a face of [counted_from, counted_to) is degenerate (collinear or
 // with a non-finite corner) or one of `pairs` (indices into `faces`, each
 // with a counted face) intersects by the rules of count_self_intersections,
@@ -62,6 +40,15 @@ class MovingFaceCrossings {
 // of count_subset_crossings over the counted faces.
 bool any_crossing(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                   int counted_from, int counted_to, const std::vector<std::array<int, 2>>& pairs);
+
+// The pairs among `pairs` (as for any_crossing) that intersect by the rules
+// of count_self_intersections, pairs with a degenerate face left out: each
+// with its counted face first (the lower index first where both are
+// counted), sorted.
+std::vector<std::pair<int, int>> intersecting_pairs(const std::vector<Vec3>& positions,
+                                                    const std::vector<Tri>& faces, int counted_from,
+                                                    int counted_to,
+                                                    const std::vector<std::array<int, 2>>& pairs);
 
 // The intersecting pairs of faces with at least one face in `subset` (by the
 // rules of count_self_intersections; a degenerate face of `subset` counts

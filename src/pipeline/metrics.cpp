@@ -264,21 +264,37 @@ int count_self_intersections(const std::vector<Vec3>& positions, const std::vect
   return count;
 }
 
+namespace {
+
+// Whether a face is degenerate (collinear or with a non-finite corner),
+// found when first asked.
+class DegenerateFaces {
+ public:
+  DegenerateFaces(const std::vector<Vec3>& positions, const std::vector<Tri>& faces)
+      : positions_(positions), faces_(faces), state_(faces.size(), 0) {}
+  bool operator()(int f) {
+    if (state_[f] == 0) {
+      const Vec3 &p = positions_[faces_[f][0]], &q = positions_[faces_[f][1]],
+                 &r = positions_[faces_[f][2]];
+      state_[f] = !is_finite(p) || !is_finite(q) || !is_finite(r) ||
+                          CGAL::collinear(point(p), point(q), point(r))
+                      ? 2
+                      : 1;
+    }
+    return state_[f] == 2;
+  }
+
+ private:
+  const std::vector<Vec3>& positions_;
+  const std::vector<Tri>& faces_;
+  std::vector<unsigned char> state_;  // 0 not asked yet, 1 proper, 2 degenerate
+};
+
+}  // namespace
+
 bool any_crossing(const std::vector<Vec3>& positions, const std::vector<Tri>& faces,
                   int counted_from, int counted_to, const std::vector<std::array<int, 2>>& pairs) {
-  // Each face's state, found when first needed: 0 unknown, 1 proper, 2 degenerate.
-  std::vector<unsigned char> state(faces.size(), 0);
-  const auto degenerate = [&](int f) {
-    if (state[f] == 0) {
-      const Vec3 &p = positions[faces[f][0]], &q = positions[faces[f][1]],
-                 &r = positions[faces[f][2]];
-      state[f] = !is_finite(p) || !is_finite(q) || !is_finite(r) ||
-                         CGAL::collinear(point(p), point(q), point(r))
-                     ? 2
-                     : 1;
-    }
-    return state[f] == 2;
-  };
+  DegenerateFaces degenerate(positions, faces);
   for (int f = counted_from; f < counted_to; ++f)
     if (degenerate(f)) return true;
   for (const auto& [f, g] : pairs)
@@ -287,55 +303,18 @@ bool any_crossing(const std::vector<Vec3>& positions, const std::vector<Tri>& fa
   return false;
 }
 
-struct MovingFaceCrossings::Fixed {
-  BoxTree tree;
-  std::vector<int> face;  // of each box of the tree
-};
-
-MovingFaceCrossings::MovingFaceCrossings(const std::vector<Vec3>& positions, std::vector<Tri> faces,
-                                         int moving_from, int moving_to)
-    : faces_(std::move(faces)), fixed_(std::make_unique<Fixed>()) {
-  const int face_count = static_cast<int>(faces_.size());
-  moving_from_ = std::clamp(moving_from, 0, face_count);
-  moving_to_ = std::clamp(moving_to, moving_from_, face_count);
-  int degenerate = 0;
-  std::vector<Box> boxes;
-  for (const FaceBox& b : face_boxes(positions, faces_, moving_from_, degenerate, moving_to_))
-    if (!b.counted) {
-      boxes.push_back(b.box);
-      fixed_->face.push_back(b.face);
-    }
-  fixed_->tree.build(boxes);
-}
-
-MovingFaceCrossings::~MovingFaceCrossings() = default;
-
-std::vector<std::pair<int, int>> MovingFaceCrossings::pairs(
-    const std::vector<Vec3>& positions) const {
-  std::vector<Box> boxes;
-  std::vector<int> face;
-  for (int f = moving_from_; f < moving_to_; ++f) {
-    Box3 box;
-    const Tri& t = faces_[f];
-    if (!face_box(positions, t, box) ||
-        CGAL::collinear(point(positions[t[0]]), point(positions[t[1]]), point(positions[t[2]])))
-      continue;
-    boxes.push_back(box);
-    face.push_back(f);
-  }
+std::vector<std::pair<int, int>> intersecting_pairs(const std::vector<Vec3>& positions,
+                                                    const std::vector<Tri>& faces, int counted_from,
+                                                    int counted_to,
+                                                    const std::vector<std::array<int, 2>>& pairs) {
+  DegenerateFaces degenerate(positions, faces);
+  const auto counted = [&](int f) { return f >= counted_from && f < counted_to; };
   std::vector<std::pair<int, int>> found;
-  if (boxes.empty()) return found;
-  const BoxTree moving(boxes);
-  moving.for_each_meeting_pair(0.0, [&](int i, int j) {
-    if (faces_intersect(positions, faces_[face[i]], faces_[face[j]]))
-      found.emplace_back(std::min(face[i], face[j]), std::max(face[i], face[j]));
-  });
-  if (!fixed_->face.empty())
-    moving.for_each_meeting_pair(fixed_->tree, 0.0, [&](int i, int j) {
-      if (faces_intersect(positions, faces_[face[i]], faces_[fixed_->face[j]]))
-        found.emplace_back(face[i], fixed_->face[j]);
-    });
-  // Sorted: the order does not depend on the trees' shapes.
+  for (auto [f, g] : pairs) {
+    if (degenerate(f) || degenerate(g) || !faces_intersect(positions, faces[f], faces[g])) continue;
+    if (!counted(f) || (counted(g) && g < f)) std::swap(f, g);
+    found.emplace_back(f, g);
+  }
   std::sort(found.begin(), found.end());
   return found;
 }

@@ -191,15 +191,8 @@ class CrossingCurveObjective final : public Objective {
   mutable Eigen::VectorXd d_, pd_, curve_;
 };
 
-MovingFaceCrossings patch_crossings(const PatchContact& contact, const Eigen::VectorXd& x) {
-  return {contact.positions(x), contact.mesh().faces, contact.first_patch_face(),
-          contact.end_patch_face()};
-}
-
-bool clean(const PatchContact& contact, const MovingFaceCrossings& crossings,
-           const Eigen::VectorXd& x) {
-  return crossings.pairs(contact.positions(x)).empty() &&
-         std::isfinite(contact.evaluate(x, nullptr));
+bool clean(const PatchContact& contact, const Eigen::VectorXd& x) {
+  return crossing_pairs(contact, x).empty() && std::isfinite(contact.evaluate(x, nullptr));
 }
 
 }  // namespace
@@ -212,16 +205,16 @@ double crossing_curve_length(const PatchContact& contact,
 
 std::vector<std::pair<int, int>> crossing_pairs(const PatchContact& contact,
                                                 const Eigen::VectorXd& x) {
-  return patch_crossings(contact, x).pairs(contact.positions(x));
+  return intersecting_pairs(contact.positions(x), contact.mesh().faces, contact.first_patch_face(),
+                            contact.end_patch_face(), contact.patch_face_pairs(x));
 }
 
 std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchContact& contact,
                                         const Eigen::VectorXd& start,
                                         const UntangleOptions& options, const Budget& budget) {
-  // What stays the same through the rounds: the fixed faces' box tree, and P
+  // What stays the same through the rounds: the contact's box trees, and P
   // (factored at the first round).
-  const MovingFaceCrossings crossings = patch_crossings(contact, start);
-  if (clean(contact, crossings, start)) return start;
+  if (clean(contact, start)) return start;
   const Eigen::SparseMatrix<double> stiffness = energy.preconditioner();
   const Eigen::Index n = stiffness.rows();
   if (n == 0) return std::nullopt;
@@ -239,14 +232,14 @@ std::optional<Eigen::VectorXd> untangle(const FabricEnergy& energy, const PatchC
   for (double weight : options.weights) {
     Eigen::VectorXd x = start;
     for (int round = 0; round < options.rounds && !budget.spent(); ++round) {
-      const std::vector<std::pair<int, int>> pairs = crossings.pairs(contact.positions(x));
+      const std::vector<std::pair<int, int>> pairs = crossing_pairs(contact, x);
       if (pairs.empty()) break;
       const Eigen::VectorXd anchor = x;
       const CrossingCurveObjective objective(contact, pairs, weight * diagonal, stiffness, anchor);
       if (!factor) factor = std::make_unique<FactoredPreconditioner>(objective);
       x = minimize(objective, anchor, solver, budget, factor.get()).x;
     }
-    if (clean(contact, crossings, x)) return x;
+    if (clean(contact, x)) return x;
   }
   return std::nullopt;
 }
