@@ -1035,6 +1035,46 @@ TEST(CollisionBroadPhase, EqualsBruteForceOnRandomSoups) {
   }
 }
 
+// The pairs with a moved corner are those of find_within that have one, on
+// soups with a few and with most vertices moved (fixed ones flagged too,
+// which the search must ignore).
+TEST(CollisionBroadPhase, FindWithinTouchingKeepsThePairsOfTheMovedVertices) {
+  Random random(21);
+  for (int trial = 0; trial < 8; ++trial) {
+    const int n = 200 + 50 * trial, fixed = trial % 2 == 0 ? 0 : n / 4;
+    const Soup soup = random_soup(random, n, n, fixed, 4);
+    CollisionBroadPhase broad(soup.mesh, flat(soup.positions));
+    const double distance = 0.05 + 0.05 * (trial % 3);
+    std::vector<char> moved(n, 0);
+    const double share = trial < 4 ? 0.1 : 0.7;
+    for (int v = 0; v < n; ++v) moved[v] = random.uniform(0, 1) < share;
+    CollisionCandidates all, touching;
+    broad.find_within(flat(soup.positions), distance, all);
+    broad.find_within_touching(flat(soup.positions), distance, moved, touching);
+    const auto is_moved = [&](int v) { return v >= fixed && moved[v]; };
+    CollisionCandidates expected;
+    for (const IndexPair& p : all.point_triangle) {
+      const Tri& f = soup.mesh.faces[p[1]];
+      if (is_moved(p[0]) || is_moved(f[0]) || is_moved(f[1]) || is_moved(f[2]))
+        expected.point_triangle.push_back(p);
+    }
+    for (const IndexPair& p : all.edge_edge) {
+      const auto &a = soup.mesh.edges[p[0]], &b = soup.mesh.edges[p[1]];
+      if (is_moved(a[0]) || is_moved(a[1]) || is_moved(b[0]) || is_moved(b[1]))
+        expected.edge_edge.push_back(p);
+    }
+    EXPECT_EQ(touching.point_triangle, expected.point_triangle) << trial;
+    EXPECT_EQ(touching.edge_edge, expected.edge_edge) << trial;
+    EXPECT_GT(expected.size(), 0u) << trial;
+    EXPECT_LT(expected.size(), all.size()) << trial;
+  }
+  const Soup small = random_soup(random, 50, 50, 0, 4);
+  CollisionBroadPhase broad(small.mesh, flat(small.positions));
+  CollisionCandidates found;
+  EXPECT_THROW(broad.find_within_touching(nullptr, 0.1, std::vector<char>(3), found),
+               InternalError);
+}
+
 // A triangulated n x n sheet of unit spacing at height z(x, y), vertices
 // numbered from `first`.
 void add_sheet(int n, const std::function<Vec3(double, double)>& place, std::vector<Vec3>& x,

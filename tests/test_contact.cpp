@@ -12,6 +12,7 @@
 
 #include "foldfill/arap.h"
 #include "foldfill/contact.h"
+#include "foldfill/error.h"
 #include "foldfill/metrics.h"
 #include "foldfill/solver.h"
 #include "lattice_domain.h"
@@ -63,6 +64,18 @@ class Recording final : public Objective {
  private:
   const Objective& inner_;
 };
+
+// Too near: a step down the barrier, as a minimisation would go, whose
+// longest vertex move is `longest`.
+Eigen::VectorXd down_the_barrier(const PatchContact& contact, const Eigen::VectorXd& x,
+                                 double longest) {
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+  contact.evaluate(x, &g);
+  double largest = 0;
+  for (Eigen::Index k = 0; k < g.size(); k += 3)
+    largest = std::max(largest, g.segment<3>(k).norm());
+  return -longest / largest * g;
+}
 
 struct Crumpling {
   EmbedDomain domain = testing::lattice_domain(16, 12, crumpled);
@@ -225,13 +238,7 @@ TEST(Contact, KeptCandidatesGiveWhatAFreshSearchGives) {
   for (int step = 0; step < 60; ++step) {
     Eigen::VectorXd dx(x.size());
     if (kept.min_distance(x, 1.0) < 0.3 * kept.options().thickness) {
-      // Too near: down the barrier, as a minimisation would go.
-      Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-      kept.evaluate(x, &g);
-      double largest = 0;
-      for (Eigen::Index k = 0; k < g.size(); k += 3)
-        largest = std::max(largest, g.segment<3>(k).norm());
-      dx = -0.5 * longest / largest * g;
+      dx = down_the_barrier(kept, x, 0.5 * longest);
     } else {
       for (Eigen::Index k = 0; k < dx.size(); ++k) dx[k] = 0.25 * longest * unit(random);
       for (Eigen::Index k = 0; k < dx.size(); k += 3) {
@@ -259,6 +266,76 @@ TEST(Contact, KeptCandidatesGiveWhatAFreshSearchGives) {
   EXPECT_EQ(compared, 60);
   EXPECT_GT(touching, 10) << "the walk never came near the sphere";
   EXPECT_LT(kept.candidate_searches(), 40) << "the candidates were never kept";
+}
+
+// Where only a part of the patch moves, the candidates are searched again
+// for the pairs of the vertices that moved far alone (partial searches), and
+// give what searches of everything give, bit for bit: the barrier, its
+// gradient, the least distance and the step bounds, along a walk of one
+// corner of the patch rising into the layer above and crumpling.
+TEST(Contact, PartialSearchesGiveWhatWholeSearchesGive) {
+  const Crumpling problem;
+  const PatchScene layer = layer_above(problem.domain, problem.top + 0.3);
+  ContactOptions whole_options;
+  whole_options.moved_share = 0;  // every search is whole
+  const PatchContact partial(problem.domain, layer, {});
+  const PatchContact whole(problem.domain, layer, whole_options);
+  Eigen::VectorXd x = problem.energy.variables(problem.start);
+  double corner_x = HUGE_VAL, corner_y = HUGE_VAL;
+  for (Eigen::Index k = 0; k < x.size(); k += 3)
+    corner_x = std::min(corner_x, x[k]), corner_y = std::min(corner_y, x[k + 1]);
+  // The free vertices within 1.8 of the lowest corner: about a fifth.
+  std::vector<bool> moving(x.size() / 3);
+  int moving_count = 0;
+  for (Eigen::Index k = 0; k < x.size(); k += 3) {
+    moving[k / 3] = std::hypot(x[k] - corner_x, x[k + 1] - corner_y) < 1.8;
+    moving_count += moving[k / 3];
+  }
+  ASSERT_GT(moving_count, 5);
+  ASSERT_LT(moving_count, static_cast<int>(x.size() / 3) / 3);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double longest = SolverOptions{}.max_displacement;
+  int near_layer = 0;
+  for (int step = 0; step < 120; ++step) {
+    Eigen::VectorXd dx = Eigen::VectorXd::Zero(x.size());
+    if (partial.min_distance(x, 1.0) < 0.3 * partial.options().thickness) {
+      dx = down_the_barrier(partial, x, 0.5 * longest);
+    } else {
+      for (Eigen::Index k = 0; k < dx.size(); k += 3) {
+        if (!moving[k / 3]) continue;
+        for (int c = 0; c < 3; ++c) dx[k + c] = 0.8 * longest * unit(random);
+        dx[k + 2] += 0.3 * longest;  // up to the layer
+      }
+    }
+    const double bound = partial.step_bound(x, dx);
+    ASSERT_EQ(bound, whole.step_bound(x, dx)) << "step " << step;
+    ASSERT_GT(bound, 0) << "step " << step;
+    x += 0.9 * bound * dx;
+    ASSERT_EQ(crossings(problem.domain, partial, x), 0) << "step " << step;
+    Eigen::VectorXd g_partial = Eigen::VectorXd::Zero(x.size()), g_whole = g_partial;
+    const double e_partial = partial.evaluate(x, &g_partial);
+    ASSERT_EQ(e_partial, whole.evaluate(x, &g_whole)) << "step " << step;
+    ASSERT_TRUE(g_partial == g_whole) << "step " << step;
+    for (const double limit : {0.05, partial.options().thickness})
+      ASSERT_EQ(partial.min_distance(x, limit), whole.min_distance(x, limit)) << "step " << step;
+    near_layer += e_partial > 0;
+  }
+  EXPECT_GT(near_layer, 10) << "the walk never came near anything";
+  EXPECT_GT(partial.partial_candidate_searches(), 5)
+      << partial.candidate_searches() << " " << whole.candidate_searches() << " " << near_layer;
+  EXPECT_EQ(whole.partial_candidate_searches(), 0);
+}
+
+TEST(Contact, MovedDriftAndShareAreChecked) {
+  const Crumpling problem;
+  for (const auto& [drift, share] : {std::pair{0.5, 0.5}, {-0.1, 0.5}, {0.25, 1.5}, {0.25, -1.0}}) {
+    ContactOptions options;
+    options.moved_drift = drift;
+    options.moved_share = share;
+    EXPECT_THROW(PatchContact contact(problem.domain, PatchScene{}, options), UsageError)
+        << drift << " " << share;
+  }
 }
 
 // A floppy patch crumpling under a layer a little above its start: without

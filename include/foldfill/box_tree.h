@@ -52,7 +52,7 @@ using IndexPair = std::array<int, 2>;
 // sorted: callers that need an order sort what they keep (sort_index_pairs).
 class BoxTree {
  public:
-  static constexpr int kLeafSize = 4;
+  static constexpr int kLeafSize = 8;
   static_assert(kLeafSize <= 32, "a leaf's meeting boxes are the bits of one unsigned");
 
   BoxTree() = default;

@@ -224,6 +224,12 @@ class CollisionBroadPhase {
   // find(positions, nullptr, distance) then keep_candidates_within, in one
   // pass that keeps only the close pairs.
   void find_within(const double* positions, double distance, CollisionCandidates& candidates);
+  // The candidate pairs closer than `distance` at `positions`, exactly, that
+  // have a corner among the `moved` vertices (one flag per vertex; fixed
+  // vertices' flags are ignored): what find_within finds, less the pairs
+  // none of whose corners moved. `candidates` is overwritten.
+  void find_within_touching(const double* positions, double distance,
+                            const std::vector<char>& moved, CollisionCandidates& candidates);
 
   // Every pair of faces whose boxes at `positions` meet (touching counts),
   // one of them moving: (moving, static), and (moving, moving) with the
@@ -259,6 +265,13 @@ class CollisionBroadPhase {
   std::vector<std::array<int, 2>> work_;                    // (search, part)
   std::vector<std::vector<IndexPair>> point_triangle_parts_, edge_edge_parts_;  // per thread
   std::vector<int> sort_scratch_;
+  // find_within_touching's scratch: the moving points, edges and faces with
+  // a moved corner (indices into the moving lists), which moving edges those
+  // are, their boxes and trees.
+  std::vector<int> touched_points_, touched_edges_, touched_faces_;
+  std::vector<char> edge_touched_;
+  std::vector<Box> touched_boxes_;
+  BoxTree touched_tree_;
 };
 
 // The largest step fraction t in [0, t_max] such that no candidate pair comes

@@ -40,6 +40,15 @@ struct ContactOptions {
   // 0.2): fresh candidates last for two such steps in a row, more where the
   // patch moves in one direction, and the fewer pairs the cheaper a search.
   double skin = 0.45;
+  // A search of the candidates moves the anchor they hold around only for
+  // the free vertices farther than moved_drift * skin from it, and searches
+  // only the pairs with such a corner again, where those are at most
+  // moved_share of the free vertices; all of them otherwise. The others keep
+  // a displacement below moved_drift * skin, so that the candidates last a
+  // little less long than fresh ones, for a search over a part of the patch.
+  // moved_drift in [0, 0.5), moved_share in [0, 1] (0: every search is whole).
+  double moved_drift = 0.25;
+  double moved_share = 0.5;
   CcdOptions ccd;
 };
 
@@ -69,7 +78,8 @@ class PatchContact {
 
   // `obstacles`: spheres, cylinders and planes in the domain's normalised
   // coordinates (mesh obstacles belong in the scene, as triangles). Throws
-  // UsageError unless thickness, stiffness and skin are positive,
+  // UsageError unless thickness, stiffness and skin are positive and
+  // moved_drift and moved_share in their ranges,
   // InternalError for a mesh obstacle or a scene face with a vertex out of
   // range. evaluate, step_bound, min_distance and positions throw
   // InternalError for an `x` of the wrong size.
@@ -100,8 +110,10 @@ class PatchContact {
   std::vector<Vec3> positions(const Eigen::VectorXd& x) const;
 
   // How many times the candidate pairs were searched (most of the
-  // contact's cost).
+  // contact's cost), and how many of those searched only the pairs of the
+  // vertices that moved far (ContactOptions::moved_share).
   int candidate_searches() const { return candidate_searches_; }
+  int partial_candidate_searches() const { return partial_candidate_searches_; }
 
   const ContactOptions& options() const { return options_; }
   const CollisionMesh& mesh() const { return broad_phase_.mesh(); }
@@ -113,8 +125,11 @@ class PatchContact {
   // All collision-mesh positions with the free ones from x.
   const double* place(const Eigen::VectorXd& x) const;
   // The candidates at the current points: the pairs and the obstacles'
-  // faces (Scope::Everything), or the obstacles' faces alone.
-  void refresh_candidates(Scope scope = Scope::Everything) const;
+  // faces (Scope::Everything), or the obstacles' faces alone. A partial
+  // refresh where it may (not `whole`); with `step`, the step that ends at
+  // the current points, whose start they must cover too.
+  void refresh_candidates(Scope scope = Scope::Everything, const double* step = nullptr,
+                          bool whole = false) const;
   // Fills active_ with the candidates that may come closer than `distance`
   // at the current points or, with `move` (3 per collision vertex; null:
   // none), anywhere along the step from them by `move`; false, with active_
@@ -125,6 +140,11 @@ class PatchContact {
   // for the obstacles alone.
   bool gather(Scope scope, double distance, const double* move) const;
   void select_candidates(double distance) const;
+  bool refresh_moved_vertices(const double* step) const;
+  void refresh_obstacle_candidates(double reach) const;
+  // A candidate's distance at the anchor.
+  double anchor_distance_pt(const IndexPair& pair) const;
+  double anchor_distance_ee(const IndexPair& pair) const;
 
   // The barrier and the step bound of the patch's faces against the
   // analytic obstacles (added to `value` and to `gradient` when non-null).
@@ -148,9 +168,16 @@ class PatchContact {
   // The pairs of meeting boxes of a patch face whose corners are all fixed
   // (an ear of the loop) and another face that does not move: they never change.
   std::vector<IndexPair> fixed_patch_pairs_;
+  // The partial refresh's scratch: which vertices moved, the pairs searched
+  // again, the merged lists.
+  mutable std::vector<char> moved_;
+  mutable CollisionCandidates touched_;
+  mutable std::vector<IndexPair> merged_pairs_;
+  mutable std::vector<double> merged_distances_;
   mutable bool has_candidates_ = false;
   mutable Scope candidates_scope_ = Scope::Everything;  // of the last search
   mutable int candidate_searches_ = 0;
+  mutable int partial_candidate_searches_ = 0;
 };
 
 // The fabric energy plus the contact's barrier, bounded by its steps: what

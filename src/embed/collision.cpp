@@ -302,23 +302,114 @@ void CollisionBroadPhase::find(const double* positions, const double* displaceme
   search(positions, displacements, distance, all, all, candidates);
 }
 
-void CollisionBroadPhase::find_within(const double* positions, double distance,
-                                      CollisionCandidates& candidates) {
-  const double distance_sq = distance * distance;
-  const auto& faces = mesh_.faces;
-  const auto& edges = mesh_.edges;
-  const auto near_pt = [&](int v, int face) {
-    const Tri& f = faces[face];
+namespace {
+
+// Whether a point-triangle or an edge-edge pair of `mesh` is closer than
+// `distance` at `positions`.
+struct NearTest {
+  const CollisionMesh& mesh;
+  const double* positions;
+  double distance_sq;
+
+  bool point_triangle(int v, int face) const {
+    const Tri& f = mesh.faces[face];
     return point_triangle_distance_squared(vec(positions, v), vec(positions, f[0]),
                                            vec(positions, f[1]),
                                            vec(positions, f[2])) < distance_sq;
-  };
-  const auto near_ee = [&](int e, int h) {
-    const auto &a = edges[e], &b = edges[h];
+  }
+  bool edge_edge(int e, int h) const {
+    const auto &a = mesh.edges[e], &b = mesh.edges[h];
     return edge_edge_distance_squared(vec(positions, a[0]), vec(positions, a[1]),
                                       vec(positions, b[0]), vec(positions, b[1])) < distance_sq;
-  };
+  }
+};
+
+}  // namespace
+
+void CollisionBroadPhase::find_within(const double* positions, double distance,
+                                      CollisionCandidates& candidates) {
+  const NearTest near{mesh_, positions, distance * distance};
+  const auto near_pt = [&](int v, int face) { return near.point_triangle(v, face); };
+  const auto near_ee = [&](int e, int h) { return near.edge_edge(e, h); };
   search(positions, nullptr, distance, near_pt, near_ee, candidates);
+}
+
+// A tree of the moving primitives with a moved corner, searched against the
+// trees of everything: moved points against all faces, faces with a moved
+// corner against the static points and the points that did not move (the
+// pairs with a moved point were found by the first), edges with a moved
+// corner against all edges (a pair of two such edges once). On one thread:
+// the moved primitives are a minority, else a whole search is cheaper.
+void CollisionBroadPhase::find_within_touching(const double* positions, double distance,
+                                               const std::vector<char>& moved,
+                                               CollisionCandidates& candidates) {
+  if (static_cast<int>(moved.size()) != mesh_.vertex_count)
+    throw InternalError("broad phase: one moved flag per vertex expected");
+  moving_boxes(positions, nullptr);
+  update_trees();
+  const int fixed = mesh_.fixed_count;
+  const auto& faces = mesh_.faces;
+  const auto& edges = mesh_.edges;
+  const auto is_moved = [&](int v) { return v >= fixed && moved[v]; };
+  touched_points_.clear();
+  for (int v = fixed; v < mesh_.vertex_count; ++v)
+    if (moved[v]) touched_points_.push_back(v - fixed);
+  touched_edges_.clear();
+  edge_touched_.assign(moving_edges_.size(), 0);
+  for (size_t k = 0; k < moving_edges_.size(); ++k) {
+    const auto& e = edges[moving_edges_[k]];
+    if (is_moved(e[0]) || is_moved(e[1])) {
+      touched_edges_.push_back(static_cast<int>(k));
+      edge_touched_[k] = 1;
+    }
+  }
+  touched_faces_.clear();
+  for (size_t k = 0; k < moving_faces_.size(); ++k) {
+    const Tri& f = faces[moving_faces_[k]];
+    if (is_moved(f[0]) || is_moved(f[1]) || is_moved(f[2]))
+      touched_faces_.push_back(static_cast<int>(k));
+  }
+  const NearTest near{mesh_, positions, distance * distance};
+  std::vector<IndexPair>& pt = candidates.point_triangle;
+  std::vector<IndexPair>& ee = candidates.edge_edge;
+  pt.clear();
+  ee.clear();
+  const auto point_face = [&](int v, int face) {
+    if (!has_vertex(faces[face], v) && near.point_triangle(v, face)) pt.push_back({v, face});
+  };
+  const auto build = [&](const std::vector<int>& touched, const std::vector<Box>& boxes) {
+    touched_boxes_.clear();
+    for (int k : touched) touched_boxes_.push_back(boxes[k]);
+    touched_tree_.build(touched_boxes_);
+  };
+  build(touched_points_, point_boxes_);
+  touched_tree_.for_each_meeting_pair(static_face_tree_, distance, [&](int p, int f) {
+    point_face(fixed + touched_points_[p], static_faces_[f]);
+  });
+  touched_tree_.for_each_meeting_pair(moving_face_tree_, distance, [&](int p, int f) {
+    point_face(fixed + touched_points_[p], moving_faces_[f]);
+  });
+  build(touched_faces_, face_boxes_);
+  touched_tree_.for_each_meeting_pair(static_points_, distance, [&](int f, int v) {
+    point_face(v, moving_faces_[touched_faces_[f]]);
+  });
+  touched_tree_.for_each_meeting_pair(moving_points_, distance, [&](int f, int p) {
+    if (!moved[fixed + p]) point_face(fixed + p, moving_faces_[touched_faces_[f]]);
+  });
+  build(touched_edges_, edge_boxes_);
+  const auto edge_pair = [&](int e, int h) {
+    if (!share_vertex(edges[e], edges[h]) && near.edge_edge(e, h))
+      ee.push_back({std::min(e, h), std::max(e, h)});
+  };
+  touched_tree_.for_each_meeting_pair(static_edge_tree_, distance, [&](int a, int b) {
+    edge_pair(moving_edges_[touched_edges_[a]], static_edges_[b]);
+  });
+  touched_tree_.for_each_meeting_pair(moving_edge_tree_, distance, [&](int a, int b) {
+    const int e = moving_edges_[touched_edges_[a]], h = moving_edges_[b];
+    if (!edge_touched_[b] || e < h) edge_pair(e, h);
+  });
+  sort_index_pairs(pt, mesh_.vertex_count);
+  sort_index_pairs(ee, static_cast<int>(edges.size()));
 }
 
 void CollisionBroadPhase::meeting_faces(const double* positions, std::vector<IndexPair>& pairs) {

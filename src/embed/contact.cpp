@@ -80,6 +80,9 @@ void check_options(const ContactOptions& options) {
   const auto positive = [](double w) { return std::isfinite(w) && w > 0; };
   if (!positive(options.thickness) || !positive(options.stiffness) || !positive(options.skin))
     throw UsageError("contact: thickness, stiffness and skin must be positive");
+  if (!(options.moved_drift >= 0 && options.moved_drift < 0.5) ||
+      !(options.moved_share >= 0 && options.moved_share <= 1))
+    throw UsageError("contact: moved_drift must be in [0, 0.5) and moved_share in [0, 1]");
 }
 
 }  // namespace
@@ -126,13 +129,28 @@ const double* PatchContact::place(const Eigen::VectorXd& x) const {
   return points_.data();
 }
 
-// The candidates within thickness + skin of the current points, their
-// distances there, and those points as the anchor they are valid around:
-// while no free vertex has moved more than `drift` from it, a pair closer
-// than thickness + skin - 2 drift is among them, with an anchor distance
-// below its distance + 2 drift.
-void PatchContact::refresh_candidates(Scope scope) const {
+// The candidates within thickness + skin of the anchor, their distances
+// there, and the anchor: the points where they were last searched, vertex by
+// vertex. Every pair that is not among them is at least thickness + skin
+// apart at the anchor, so that while the free vertices' displacements from
+// it spread over less than `closer`, a pair closer than thickness + skin -
+// closer is among them, with an anchor distance below its distance + closer
+// (gather). A refresh moves the anchor to the current points. Where only a
+// few vertices have moved far from it (ContactOptions::moved_drift and
+// moved_share), only those move: a pair none of whose corners moved keeps its anchor
+// distance, and the pairs with a moved corner are searched again
+// (find_within_touching). The others' displacements stay below that share,
+// so that the refreshed candidates last almost as long as fresh ones, for a
+// search over a part of the patch.
+void PatchContact::refresh_candidates(Scope scope, const double* step, bool whole) const {
   const double reach = options_.thickness + options_.skin;
+  candidate_searches_ += 1;
+  if (!whole && scope == Scope::Everything && has_candidates_ &&
+      candidates_scope_ == Scope::Everything && refresh_moved_vertices(step)) {
+    refresh_obstacle_candidates(reach);
+    ++partial_candidate_searches_;
+    return;
+  }
   // The search keeps only the pairs closer than the reach (before sorting
   // them: most pairs of meeting boxes are farther), then their distances.
   if (scope == Scope::Everything) {
@@ -142,22 +160,37 @@ void PatchContact::refresh_candidates(Scope scope) const {
     candidates_.edge_edge.clear();
   }
   candidates_scope_ = scope;
-  const CollisionMesh& m = mesh();
-  const double* p = points_.data();
-  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  anchor_ = points_;
   point_triangle_distance_.clear();
-  for (const IndexPair& pair : candidates_.point_triangle) {
-    const Tri& f = m.faces[pair[1]];
-    point_triangle_distance_.push_back(std::sqrt(
-        point_triangle_distance_squared(point(pair[0]), point(f[0]), point(f[1]), point(f[2]))));
-  }
+  for (const IndexPair& pair : candidates_.point_triangle)
+    point_triangle_distance_.push_back(anchor_distance_pt(pair));
   edge_edge_distance_.clear();
-  for (const IndexPair& pair : candidates_.edge_edge) {
-    const auto& a = m.edges[pair[0]];
-    const auto& b = m.edges[pair[1]];
-    edge_edge_distance_.push_back(
-        std::sqrt(edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1]))));
-  }
+  for (const IndexPair& pair : candidates_.edge_edge)
+    edge_edge_distance_.push_back(anchor_distance_ee(pair));
+  refresh_obstacle_candidates(reach);
+  has_candidates_ = true;
+}
+
+double PatchContact::anchor_distance_pt(const IndexPair& pair) const {
+  const double* p = anchor_.data();
+  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  const Tri& f = mesh().faces[pair[1]];
+  return std::sqrt(
+      point_triangle_distance_squared(point(pair[0]), point(f[0]), point(f[1]), point(f[2])));
+}
+
+double PatchContact::anchor_distance_ee(const IndexPair& pair) const {
+  const double* p = anchor_.data();
+  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  const auto& a = mesh().edges[pair[0]];
+  const auto& b = mesh().edges[pair[1]];
+  return std::sqrt(edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1])));
+}
+
+void PatchContact::refresh_obstacle_candidates(double reach) const {
+  const CollisionMesh& m = mesh();
+  const double* p = anchor_.data();
+  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   obstacle_candidates_.clear();
   for (int f = first_patch_face_; f < end_patch_face_; ++f) {
     const Tri& t = m.faces[f];
@@ -166,9 +199,79 @@ void PatchContact::refresh_candidates(Scope scope) const {
             reach))
         obstacle_candidates_.push_back({f, o});
   }
-  anchor_ = points_;
-  has_candidates_ = true;
-  ++candidate_searches_;
+}
+
+// The partial refresh (see refresh_candidates), where few enough vertices
+// moved; false, with nothing changed, otherwise. With `step`, the current
+// points end that step, whose start the candidates must cover as well: a
+// vertex moved where it is far from the anchor at either.
+bool PatchContact::refresh_moved_vertices(const double* step) const {
+  const double limit = options_.moved_drift * options_.skin;
+  const int vertex_count = static_cast<int>(points_.size() / 3);
+  moved_.assign(vertex_count, 0);
+  int moved_count = 0;
+  for (int v = fixed_count_; v < vertex_count; ++v) {
+    const double* p = &points_[3 * static_cast<size_t>(v)];
+    const double* a = &anchor_[3 * static_cast<size_t>(v)];
+    const double dx = p[0] - a[0], dy = p[1] - a[1], dz = p[2] - a[2];
+    bool far = !(dx * dx + dy * dy + dz * dz < limit * limit);
+    if (step && !far) {
+      const double* m = step + 3 * static_cast<size_t>(v);
+      const double sx = dx - m[0], sy = dy - m[1], sz = dz - m[2];
+      far = !(sx * sx + sy * sy + sz * sz < limit * limit);
+    }
+    if (far) {
+      moved_[v] = 1;
+      ++moved_count;
+    }
+  }
+  if (moved_count > options_.moved_share * (vertex_count - fixed_count_)) return false;
+  for (int v = fixed_count_; v < vertex_count; ++v)
+    if (moved_[v])
+      std::copy_n(points_.begin() + 3 * static_cast<std::ptrdiff_t>(v), 3,
+                  anchor_.begin() + 3 * static_cast<std::ptrdiff_t>(v));
+  const double reach = options_.thickness + options_.skin;
+  broad_phase_.find_within_touching(anchor_.data(), reach, moved_, touched_);
+  const CollisionMesh& m = mesh();
+  // The kept pairs (no moved corner) and the searched ones (a moved corner)
+  // are apart: merged in order.
+  const auto merge = [&](std::vector<IndexPair>& pairs, std::vector<double>& distances,
+                         const std::vector<IndexPair>& fresh, const auto& untouched,
+                         const auto& distance) {
+    merged_pairs_.clear();
+    merged_distances_.clear();
+    size_t k = 0;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (!untouched(pairs[i])) continue;
+      for (; k < fresh.size() && fresh[k] < pairs[i]; ++k) {
+        merged_pairs_.push_back(fresh[k]);
+        merged_distances_.push_back(distance(fresh[k]));
+      }
+      merged_pairs_.push_back(pairs[i]);
+      merged_distances_.push_back(distances[i]);
+    }
+    for (; k < fresh.size(); ++k) {
+      merged_pairs_.push_back(fresh[k]);
+      merged_distances_.push_back(distance(fresh[k]));
+    }
+    pairs.swap(merged_pairs_);
+    distances.swap(merged_distances_);
+  };
+  merge(
+      candidates_.point_triangle, point_triangle_distance_, touched_.point_triangle,
+      [&](const IndexPair& pair) {
+        const Tri& f = m.faces[pair[1]];
+        return !(moved_[pair[0]] || moved_[f[0]] || moved_[f[1]] || moved_[f[2]]);
+      },
+      [&](const IndexPair& pair) { return anchor_distance_pt(pair); });
+  merge(
+      candidates_.edge_edge, edge_edge_distance_, touched_.edge_edge,
+      [&](const IndexPair& pair) {
+        const auto &a = m.edges[pair[0]], &b = m.edges[pair[1]];
+        return !(moved_[a[0]] || moved_[a[1]] || moved_[b[0]] || moved_[b[1]]);
+      },
+      [&](const IndexPair& pair) { return anchor_distance_ee(pair); });
+  return true;
 }
 
 // The candidates whose anchor distance is at most `distance` into active_.
@@ -242,9 +345,14 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
                               Scope scope) const {
   if (scope == Scope::ObstaclesOnly && obstacles_.empty()) return 0;
   place(x);
+  // Refreshed candidates hold at the current points (a whole search at no
+  // drift, a partial one below half the skin) unless those are not finite.
   if (!gather(scope, options_.thickness, nullptr)) {
     refresh_candidates(scope);
-    gather(scope, options_.thickness, nullptr);
+    if (!gather(scope, options_.thickness, nullptr)) {
+      refresh_candidates(scope, nullptr, true);
+      gather(scope, options_.thickness, nullptr);
+    }
   }
   // gradient_ is all zeros between calls: a call zeroes what it wrote, the
   // free vertices' part and the fixed corners of the active pairs, instead
@@ -295,7 +403,7 @@ double PatchContact::step_bound(const Eigen::VectorXd& x, const Eigen::VectorXd&
     // within its move of there, and the next step starts there (most steps
     // are taken whole), so that they last for it as well.
     for (size_t k = offset; k < points_.size(); ++k) points_[k] += displacement_[k];
-    refresh_candidates(scope);
+    refresh_candidates(scope, displacement_.data());
     place(x);
     covered = gather(scope, 0.0, displacement_.data());
     if (!covered && scope == Scope::Everything)
