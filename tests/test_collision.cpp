@@ -850,6 +850,49 @@ TEST(BoxTree, BuiltInAnyOrderEqualsBruteForce) {
 }
 
 // Every way of splitting a search finds the same pairs, each once.
+// closing_bound is at least every difference of two displacements (the
+// still points' 0 among them), at most twice the largest, and one
+// translation's length for a translation.
+TEST(ClosingBound, BoundsEveryDifferenceOfDisplacements) {
+  Random random(23);
+  for (int trial = 0; trial < 20; ++trial) {
+    const size_t n = 30, first = trial % 2 ? 10 : 0;
+    std::vector<double> anchor(3 * n), points(3 * n), move(3 * n);
+    const Vec3 drift = random.point(-2, 2);
+    for (size_t k = 0; k < 3 * n; ++k) {
+      anchor[k] = random.uniform(-5, 5);
+      move[k] = random.uniform(-0.3, 0.3);
+      points[k] = anchor[k] + (k >= 3 * first ? drift[k % 3] + random.uniform(-0.2, 0.2) : 0.0);
+    }
+    const double* no_step = nullptr;
+    for (const double* step : {no_step, static_cast<const double*>(move.data())}) {
+      std::vector<Vec3> displacements = {{0, 0, 0}};
+      for (size_t v = first; v < n; ++v) {
+        const Vec3 d{points[3 * v] - anchor[3 * v], points[3 * v + 1] - anchor[3 * v + 1],
+                     points[3 * v + 2] - anchor[3 * v + 2]};
+        displacements.push_back(d);
+        if (step) displacements.push_back(add(d, {step[3 * v], step[3 * v + 1], step[3 * v + 2]}));
+      }
+      double widest = 0, longest = 0;
+      for (const Vec3& a : displacements) {
+        longest = std::max(longest, norm(a));
+        for (const Vec3& b : displacements) widest = std::max(widest, norm(sub(a, b)));
+      }
+      const double bound = closing_bound(points.data(), anchor.data(), first, n, step);
+      EXPECT_GE(bound, widest) << trial;
+      EXPECT_LE(bound, 2 * longest * (1 + 1e-12)) << trial;
+      // Moving in one direction: much less than twice the longest.
+      EXPECT_LT(bound, 1.6 * longest) << trial;
+    }
+  }
+  std::vector<double> anchor(9, 1.0), points = anchor;
+  for (size_t k = 3; k < 9; k += 3) points[k] += 0.5;  // points 1 and 2 move 0.5 along x
+  EXPECT_DOUBLE_EQ(closing_bound(points.data(), anchor.data(), 1, 3), 0.5);
+  EXPECT_EQ(closing_bound(points.data(), anchor.data(), 0, 3), 0.5);
+  points[4] = std::nan("");
+  EXPECT_EQ(closing_bound(points.data(), anchor.data(), 1, 3), HUGE_VAL);
+}
+
 TEST(BoxTree, SplitSearchesFindEveryPairOnce) {
   Random random(17);
   const std::vector<Box> a = random_boxes(random, 700, 2), b = random_boxes(random, 400, 3);

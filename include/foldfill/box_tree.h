@@ -38,6 +38,22 @@ inline bool boxes_meet(const Box& a, const Box& b, double margin) {
 
 using IndexPair = std::array<int, 2>;
 
+// For lists of the pairs of points (or of primitives over them) nearer than
+// some reach at `anchor` (a "Verlet list"): the most any two of them can
+// have come closer since, where the points are 3 doubles each, those of
+// [first, end) moved to `points` and the others stayed (their displacement,
+// 0, is in the set). With `move` (3 doubles per point, read in [first,
+// end)), along the step from `points` by `move` as well: a difference of
+// displacements is convex along it, so its ends are enough. A pair comes
+// closer by at most the difference of its corners' displacements, and those
+// differ by at most the set's diameter: bounded by twice its largest
+// displacement and by twice its radius about the centre of its box,
+// whichever is less (about one largest displacement where the points move
+// in one direction, instead of two). +infinity where a displacement is not
+// finite.
+double closing_bound(const double* points, const double* anchor, size_t first, size_t end,
+                     const double* move = nullptr);
+
 // A binary tree of boxes, split at the median of the longest axis of the
 // box centres, with up to kLeafSize boxes per leaf. Built once for a set of
 // boxes, it can be refitted to new boxes of the same primitives in linear

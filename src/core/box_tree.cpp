@@ -358,4 +358,37 @@ std::vector<IndexPair> meeting_pairs(const BoxTree& tree, double margin) {
                         });
 }
 
+double closing_bound(const double* points, const double* anchor, size_t first, size_t end,
+                     const double* move) {
+  // Calls visit(dx, dy, dz) for each moved point's displacement, and with
+  // `move` for its displacement at the step's end too.
+  const auto for_each_displacement = [&](const auto& visit) {
+    for (size_t k = 3 * first; k < 3 * end; k += 3) {
+      const double dx = points[k] - anchor[k], dy = points[k + 1] - anchor[k + 1],
+                   dz = points[k + 2] - anchor[k + 2];
+      visit(dx, dy, dz);
+      if (move) visit(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
+    }
+  };
+  double drift = 0;
+  double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
+  bool finite = true;
+  for_each_displacement([&](double x, double y, double z) {
+    finite &= std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+    drift = std::max(drift, x * x + y * y + z * z);
+    low[0] = std::min(low[0], x), high[0] = std::max(high[0], x);
+    low[1] = std::min(low[1], y), high[1] = std::max(high[1], y);
+    low[2] = std::min(low[2], z), high[2] = std::max(high[2], z);
+  });
+  if (!finite) return std::numeric_limits<double>::infinity();
+  const double centre[3] = {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]),
+                            0.5 * (low[2] + high[2])};
+  double radius = centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2];
+  for_each_displacement([&](double x, double y, double z) {
+    x -= centre[0], y -= centre[1], z -= centre[2];
+    radius = std::max(radius, x * x + y * y + z * z);
+  });
+  return 2 * std::sqrt(std::min(drift, radius));
+}
+
 }  // namespace foldfill

@@ -286,45 +286,13 @@ void PatchContact::select_candidates(double distance) const {
 }
 
 // A pair that is not among the candidates was at least thickness + skin
-// apart at the anchor. Since then, each vertex has moved by its displacement
-// from the anchor (0 for the fixed ones), and the pair can have come closer
-// by at most the largest difference between the displacements of its
-// corners: at most the diameter of the set of displacements, 0 included,
-// at the current points or anywhere along the step `move` (at its start or
-// its end, a difference of displacements being convex along the step). That
-// diameter is bounded by twice the largest displacement and by twice the
-// radius of the set about the centre of its box, whichever is less: about
-// one largest displacement where the patch moves in one direction (a bulge
-// rising, a fold sliding), instead of two.
+// apart at the anchor, and has come closer since by at most closing_bound
+// (box_tree.h) of the free vertices' displacements from it, at the current
+// points or anywhere along the step `move`.
 bool PatchContact::gather(double distance, const double* move) const {
   if (!has_candidates_) return false;
-  // Calls visit(dx, dy, dz) for each free vertex's displacement, and with
-  // `move` for its displacement at the step's end too.
-  const auto for_each_displacement = [&](const auto& visit) {
-    for (size_t k = 3 * static_cast<size_t>(fixed_count_); k < points_.size(); k += 3) {
-      const double dx = points_[k] - anchor_[k], dy = points_[k + 1] - anchor_[k + 1],
-                   dz = points_[k + 2] - anchor_[k + 2];
-      visit(dx, dy, dz);
-      if (move) visit(dx + move[k], dy + move[k + 1], dz + move[k + 2]);
-    }
-  };
-  double drift = 0;
-  double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
-  for_each_displacement([&](double x, double y, double z) {
-    drift = std::max(drift, x * x + y * y + z * z);
-    low[0] = std::min(low[0], x), high[0] = std::max(high[0], x);
-    low[1] = std::min(low[1], y), high[1] = std::max(high[1], y);
-    low[2] = std::min(low[2], z), high[2] = std::max(high[2], z);
-  });
-  const double centre[3] = {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]),
-                            0.5 * (low[2] + high[2])};
-  // The fixed vertices' displacement, 0, is in the set.
-  double radius = centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2];
-  for_each_displacement([&](double x, double y, double z) {
-    x -= centre[0], y -= centre[1], z -= centre[2];
-    radius = std::max(radius, x * x + y * y + z * z);
-  });
-  const double closer = 2 * std::sqrt(std::min(drift, radius));
+  const double closer = closing_bound(points_.data(), anchor_.data(),
+                                      static_cast<size_t>(fixed_count_), points_.size() / 3, move);
   if (!(distance + closer < options_.thickness + options_.skin)) return false;
   select_candidates(distance + closer);
   return true;
@@ -346,12 +314,14 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
   if (scope == Scope::ObstaclesOnly && obstacles_.empty()) return 0;
   place(x);
   // Refreshed candidates hold at the current points (a whole search at no
-  // drift, a partial one below half the skin) unless those are not finite.
+  // drift, a partial one below half the skin) unless those are not finite:
+  // the barrier is then +infinity.
   if (!gather(scope, options_.thickness, nullptr)) {
     refresh_candidates(scope);
     if (!gather(scope, options_.thickness, nullptr)) {
       refresh_candidates(scope, nullptr, true);
-      gather(scope, options_.thickness, nullptr);
+      if (!gather(scope, options_.thickness, nullptr))
+        return std::numeric_limits<double>::infinity();
     }
   }
   // gradient_ is all zeros between calls: a call zeroes what it wrote, the

@@ -258,11 +258,11 @@ constexpr double kRepulsionRebuildFactor = 2;
 
 // The candidate pairs of the repulsion (a "Verlet list"): every pair (i > j,
 // i free, not joined by an edge) closer than its radius r_ij = (r_i + r_j) / 2
-// plus the skin at the current positions, sorted by (i, j). While no vertex is
-// more than skin / 2 away from where it was at the build, every pair closer
-// than its radius is in the list, so summing over the list is summing over all
-// pairs; the order makes the sum independent of when the list was built (and
-// of how the pairs were found).
+// plus the skin at the current positions, sorted by (i, j). While no two
+// vertices can have come closer by more than the skin since the build
+// (closing_bound), every pair closer than its radius is in the list, so summing over the list is
+// summing over all pairs; the order makes the sum independent of when the list was built (and of
+// how the pairs were found).
 //
 // The pairs are found by the shared box tree (repulsion_box): the free
 // vertices against each other, and against the fixed ones, whose tree is
@@ -315,18 +315,6 @@ void FabricEnergy::build_repulsion_pairs() const {
 }
 
 namespace {
-
-// Whether some free vertex moved further than `limit` from `anchor` (also
-// when a position is not finite).
-bool moved_beyond(const Points& points, const Points& anchor, int fixed_count, double limit) {
-  const double limit_sq = limit * limit;
-  for (Eigen::Index v = fixed_count; v < points.rows(); ++v) {
-    const double dx = points(v, 0) - anchor(v, 0), dy = points(v, 1) - anchor(v, 1),
-                 dz = points(v, 2) - anchor(v, 2);
-    if (!(dx * dx + dy * dy + dz * dz <= limit_sq)) return true;
-  }
-  return false;
-}
 
 // 1/2 sum over the close pairs of max(r_ij - |x_i - x_j|, 0)^2; adds `weight`
 // times its gradient to `forces` when non-null.
@@ -430,11 +418,14 @@ EnergyTerms FabricEnergy::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gr
   return terms;
 }
 
-// Rebuilt only when some vertex has moved more than half the skin since the
-// last build: late iterations move little, so most evaluations reuse the list.
+// Rebuilt only when two vertices may have come closer by the skin since the
+// last build (closing_bound): late iterations move little, so most
+// evaluations reuse the list.
 void FabricEnergy::update_repulsion_pairs() const {
   if (repulsion_anchor_.rows() == points_.rows() &&
-      !moved_beyond(points_, repulsion_anchor_, domain_.fixed_count, 0.5 * repulsion_skin_)) {
+      closing_bound(points_.data(), repulsion_anchor_.data(),
+                    static_cast<size_t>(domain_.fixed_count),
+                    static_cast<size_t>(points_.rows())) <= repulsion_skin_) {
     return;
   }
   build_repulsion_pairs();
