@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace foldfill::testing {
 
@@ -19,14 +21,31 @@ inline std::filesystem::path shared_dir() {
   return std::filesystem::is_directory(dir / "data") ? dir : std::filesystem::path();
 }
 
+// The scratch folders this process made: removed when it exits, unless a
+// test failed (they are then left to look at).
+inline std::vector<std::filesystem::path>& scratch_dirs() {
+  static std::vector<std::filesystem::path> dirs;
+  return dirs;
+}
+
+inline void remove_scratch_dirs() {
+  if (::testing::UnitTest::GetInstance()->failed_test_count() > 0) return;
+  std::error_code ignored;
+  for (const auto& dir : scratch_dirs()) std::filesystem::remove_all(dir, ignored);
+}
+
 // A fresh, empty scratch folder, private to this process and test (CTest runs
 // tests in parallel processes).
 inline std::filesystem::path scratch_dir(const std::string& name) {
   const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string owner = std::to_string(::getpid()) + "_" + (test ? test->name() : "none");
+  std::string owner = std::to_string(::getpid()) + "_" + (test ? test->name() : "none");
+  for (char& c : owner)
+    if (c == '/') c = '_';  // a parametrised test's name: Name/k
   auto dir = std::filesystem::temp_directory_path() / ("foldfill_test_" + name + "_" + owner);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  if (scratch_dirs().empty()) std::atexit(remove_scratch_dirs);
+  scratch_dirs().push_back(dir);
   return dir;
 }
 
