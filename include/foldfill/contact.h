@@ -125,11 +125,10 @@ class PatchContact {
   // All collision-mesh positions with the free ones from x.
   const double* place(const Eigen::VectorXd& x) const;
   // The candidates at the current points: the pairs and the obstacles'
-  // faces (Scope::Everything), or the obstacles' faces alone. A partial
-  // refresh where it may (not `whole`); with `step`, the step that ends at
-  // the current points, whose start they must cover too.
-  void refresh_candidates(Scope scope = Scope::Everything, const double* step = nullptr,
-                          bool whole = false) const;
+  // faces (Scope::Everything), or the obstacles' faces alone; partial where
+  // few vertices moved far. With `step`, the step that ends at the current
+  // points, whose start they must cover too.
+  void refresh_candidates(Scope scope = Scope::Everything, const double* step = nullptr) const;
   // Fills active_ with the candidates that may come closer than `distance`
   // at the current points or, with `move` (3 per collision vertex; null:
   // none), anywhere along the step from them by `move`; false, with active_

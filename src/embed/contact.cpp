@@ -137,16 +137,16 @@ const double* PatchContact::place(const Eigen::VectorXd& x) const {
 // closer is among them, with an anchor distance below its distance + closer
 // (gather). A refresh moves the anchor to the current points. Where only a
 // few vertices have moved far from it (ContactOptions::moved_drift and
-// moved_share), only those move: a pair none of whose corners moved keeps its anchor
-// distance, and the pairs with a moved corner are searched again
-// (find_within_touching). The others' displacements stay below that share,
-// so that the refreshed candidates last almost as long as fresh ones, for a
-// search over a part of the patch.
-void PatchContact::refresh_candidates(Scope scope, const double* step, bool whole) const {
+// moved_share), only those move: a pair none of whose corners moved keeps
+// its anchor distance, and the pairs with a moved corner are searched again
+// (find_within_touching). The others' displacements stay below moved_drift
+// times the skin, so that the refreshed candidates last almost as long as
+// fresh ones, for a search over a part of the patch.
+void PatchContact::refresh_candidates(Scope scope, const double* step) const {
   const double reach = options_.thickness + options_.skin;
-  candidate_searches_ += 1;
-  if (!whole && scope == Scope::Everything && has_candidates_ &&
-      candidates_scope_ == Scope::Everything && refresh_moved_vertices(step)) {
+  ++candidate_searches_;
+  if (scope == Scope::Everything && has_candidates_ && candidates_scope_ == Scope::Everything &&
+      refresh_moved_vertices(step)) {
     refresh_obstacle_candidates(reach);
     ++partial_candidate_searches_;
     return;
@@ -318,11 +318,7 @@ double PatchContact::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradien
   // the barrier is then +infinity.
   if (!gather(scope, options_.thickness, nullptr)) {
     refresh_candidates(scope);
-    if (!gather(scope, options_.thickness, nullptr)) {
-      refresh_candidates(scope, nullptr, true);
-      if (!gather(scope, options_.thickness, nullptr))
-        return std::numeric_limits<double>::infinity();
-    }
+    if (!gather(scope, options_.thickness, nullptr)) return std::numeric_limits<double>::infinity();
   }
   // gradient_ is all zeros between calls: a call zeroes what it wrote, the
   // free vertices' part and the fixed corners of the active pairs, instead

@@ -260,9 +260,9 @@ constexpr double kRepulsionRebuildFactor = 2;
 // i free, not joined by an edge) closer than its radius r_ij = (r_i + r_j) / 2
 // plus the skin at the current positions, sorted by (i, j). While no two
 // vertices can have come closer by more than the skin since the build
-// (closing_bound), every pair closer than its radius is in the list, so summing over the list is
-// summing over all pairs; the order makes the sum independent of when the list was built (and of
-// how the pairs were found).
+// (closing_bound), every pair closer than its radius is in the list, so
+// summing over the list is summing over all pairs; the order makes the sum
+// independent of when the list was built (and of how the pairs were found).
 //
 // The pairs are found by the shared box tree (repulsion_box): the free
 // vertices against each other, and against the fixed ones, whose tree is
