@@ -415,6 +415,53 @@ TEST(EdgeEdgeDistance, ScaleInvariance) {
   }
 }
 
+// The cheap bounds never say "farther" of a pair nearer than the distance
+// asked, on random pairs of every kind and at thresholds just around their
+// distances; and they do rule out the pairs they are for, neighbouring
+// primitives of a sheet a little apart.
+TEST(FartherBounds, NeverRuleOutANearerPair) {
+  Random random(11);
+  int ruled_out = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Vec3 a = random.point(), b = random.point(), c = random.point(), d = random.point();
+    const Vec3 p = random.point(-3, 3);
+    const double pt = point_triangle_distance_squared(p, a, b, c);
+    const double ee = edge_edge_distance_squared(a, b, c, d);
+    for (const double f : {0.25, 0.81, 0.999999, 1.0, 1.000001, 1.21, 4.0}) {
+      const bool pt_far = point_triangle_farther(p, a, b, c, f * pt);
+      const bool ee_far = edge_edge_farther(a, b, c, d, f * ee);
+      if (pt_far) {
+        EXPECT_GT(pt, f * pt) << trial;
+      }
+      if (ee_far) {
+        EXPECT_GT(ee, f * ee) << trial;
+      }
+      ruled_out += pt_far + ee_far;
+    }
+    // At or beyond the distance itself: never.
+    EXPECT_FALSE(point_triangle_farther(p, a, b, c, pt));
+    EXPECT_FALSE(edge_edge_farther(a, b, c, d, ee));
+  }
+  EXPECT_GT(ruled_out, 20000);  // well below the distance, most pairs are
+}
+
+TEST(FartherBounds, RuleOutNeighboursOfASheet) {
+  // Two unit triangles sharing the edge (a, b) of a flat sheet, lifted a
+  // little: the corners c and d are about 0.87 from the other triangle's
+  // far edge, the edges (b, c) and (a, d) about as far apart.
+  const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0.5, 0.866, 0.05}, d{0.5, -0.866, -0.05};
+  const double reach = 0.55;
+  EXPECT_TRUE(edge_edge_farther(b, c, a, d, reach * reach));
+  const Vec3 e{1.5, 0.866, 0.02};  // the next corner along the strip
+  EXPECT_TRUE(point_triangle_farther(e, a, b, d, reach * reach));
+  // Not when nearer: the same corner just above the triangle.
+  EXPECT_FALSE(point_triangle_farther({0.5, -0.3, 0.2}, a, b, d, reach * reach));
+  // Non-finite input is never ruled out.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(edge_edge_farther({nan, 0, 0}, c, a, d, reach * reach));
+  EXPECT_FALSE(point_triangle_farther({nan, 0, 0}, a, b, d, reach * reach));
+}
+
 // ---------------------------------------------------------------------------
 // Barrier
 

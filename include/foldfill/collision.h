@@ -47,6 +47,20 @@ double point_triangle_distance_squared(const Vec3& p, const Vec3& a, const Vec3&
 double edge_edge_distance_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
                                   std::array<Vec3, 4>* gradient = nullptr);
 
+// Whether the point-triangle or the edge-edge pair is certainly at least
+// sqrt(distance_sq) apart, by a bound a few times cheaper than the distance
+// itself: their separation along the line between the point and the
+// triangle's centroid, or between the segments' middles (each segment lies
+// within half its projection of its middle there), and for a point across
+// the triangle's plane. False where the bound is not enough (or not finite);
+// a pair true here is farther than sqrt(distance_sq) by the distance
+// functions above too, rounding included (the bound must pass it by a
+// relative 1e-9).
+bool point_triangle_farther(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                            double distance_sq);
+bool edge_edge_farther(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                       double distance_sq);
+
 // Squared distance between the segment [s0, s1] and the triangle (a, b, c):
 // 0 where the segment pierces the triangle (crosses its plane strictly from
 // one side to the other within it), otherwise the least of its two ends

@@ -38,6 +38,50 @@ double point_segment(const Vec3& p, const Vec3& a, const Vec3& b, double& t, Vec
 // of the line of each edge, and a point on the inner side of an edge's line
 // is never nearest to that edge's interior. A degenerate triangle is its
 // three segments.
+namespace {
+
+// Whether separation / |m| is at least sqrt(distance_sq), a hair more, where
+// `separation` is the least of (q - p) . m over the points of two sets.
+constexpr double kSeparationSlack = 1 + 1e-9;
+bool separated(double separation, const Vec3& m, double distance_sq) {
+  return separation > 0 && separation * separation > kSeparationSlack * distance_sq * dot(m, m);
+}
+
+}  // namespace
+
+bool point_triangle_farther(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                            double distance_sq) {
+  // From the centroid to the point: every point q of the triangle has
+  // (p - q) . m at least its least corner's.
+  const Vec3 m{p[0] - (a[0] + b[0] + c[0]) / 3, p[1] - (a[1] + b[1] + c[1]) / 3,
+               p[2] - (a[2] + b[2] + c[2]) / 3};
+  if (separated(std::min({dot(sub(p, a), m), dot(sub(p, b), m), dot(sub(p, c), m)}), m,
+                distance_sq))
+    return true;
+  const Vec3 n = cross(sub(b, a), sub(c, a));
+  return separated(std::abs(dot(sub(p, a), n)), n, distance_sq);
+}
+
+bool edge_edge_farther(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                       double distance_sq) {
+  // m from one middle to the other: along any w, the segments' points lie
+  // within half their projections of their middles. Along m itself, and
+  // along m made square to each segment (side by side segments, parallel
+  // in a regular sheet, are separated across them, not along m).
+  const Vec3 m{0.5 * (b0[0] + b1[0] - a0[0] - a1[0]), 0.5 * (b0[1] + b1[1] - a0[1] - a1[1]),
+               0.5 * (b0[2] + b1[2] - a0[2] - a1[2])};
+  const Vec3 a = sub(a1, a0), b = sub(b1, b0);
+  const auto separated_along = [&](const Vec3& w) {
+    return separated(dot(m, w) - 0.5 * (std::abs(dot(a, w)) + std::abs(dot(b, w))), w, distance_sq);
+  };
+  if (separated_along(m)) return true;
+  const auto square_to = [&](const Vec3& e) {
+    const double ee = dot(e, e);
+    return ee > 0 ? sub(m, scaled(e, dot(m, e) / ee)) : m;
+  };
+  return separated_along(square_to(a)) || separated_along(square_to(b));
+}
+
 double point_triangle_distance_squared(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
                                        std::array<Vec3, 4>* gradient) {
   const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);

@@ -467,14 +467,16 @@ double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const 
   double smallest = limit * limit;
   for (const IndexPair& pair : near.point_triangle) {
     const Tri& f = m.faces[pair[1]];
-    smallest = std::min(smallest, point_triangle_distance_squared(point(pair[0]), point(f[0]),
-                                                                  point(f[1]), point(f[2])));
+    const Vec3 q = point(pair[0]), a = point(f[0]), b = point(f[1]), c = point(f[2]);
+    if (!point_triangle_farther(q, a, b, c, smallest))
+      smallest = std::min(smallest, point_triangle_distance_squared(q, a, b, c));
   }
   for (const IndexPair& pair : near.edge_edge) {
-    const auto& a = m.edges[pair[0]];
-    const auto& b = m.edges[pair[1]];
-    smallest = std::min(
-        smallest, edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1])));
+    const auto& e = m.edges[pair[0]];
+    const auto& h = m.edges[pair[1]];
+    const Vec3 a0 = point(e[0]), a1 = point(e[1]), b0 = point(h[0]), b1 = point(h[1]);
+    if (!edge_edge_farther(a0, a1, b0, b1, smallest))
+      smallest = std::min(smallest, edge_edge_distance_squared(a0, a1, b0, b1));
   }
   double nearest = std::sqrt(smallest);
   for (int f = first_patch_face_; f < end_patch_face_; ++f) {
