@@ -22,6 +22,11 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+// Point v of an array of 3 doubles per point (positions, displacements).
+inline Vec3 point_at(const double* points, long v) {
+  const double* p = points + 3 * v;
+  return {p[0], p[1], p[2]};
+}
 inline double distance(const Vec3& a, const Vec3& b) { return norm(sub(a, b)); }
 
 // Interior angle at corner `a` of triangle (a, b, c), in [0, pi]. The atan2

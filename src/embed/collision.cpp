@@ -10,6 +10,7 @@
 #include <string>
 
 #include "foldfill/error.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -27,10 +28,6 @@ constexpr int kSmallestParallelSearch = 5000;
 constexpr int kPartsPerThread = 32;
 
 const double* at(const double* array, int v) { return array + 3 * static_cast<ptrdiff_t>(v); }
-Vec3 vec(const double* array, int v) {
-  const double* p = at(array, v);
-  return {p[0], p[1], p[2]};
-}
 
 // The box of vertices `v` at `x`, and at x + dx too when `dx` is non-null.
 template <int N>
@@ -314,15 +311,15 @@ struct NearTest {
 
   bool point_triangle(int v, int face) const {
     const Tri& f = mesh.faces[face];
-    const Vec3 p = vec(positions, v), a = vec(positions, f[0]), b = vec(positions, f[1]),
-               c = vec(positions, f[2]);
+    const Vec3 p = point_at(positions, v), a = point_at(positions, f[0]),
+               b = point_at(positions, f[1]), c = point_at(positions, f[2]);
     return !point_triangle_farther(p, a, b, c, distance_sq) &&
            point_triangle_distance_squared(p, a, b, c) < distance_sq;
   }
   bool edge_edge(int e, int h) const {
     const auto &ea = mesh.edges[e], &eb = mesh.edges[h];
-    const Vec3 a0 = vec(positions, ea[0]), a1 = vec(positions, ea[1]), b0 = vec(positions, eb[0]),
-               b1 = vec(positions, eb[1]);
+    const Vec3 a0 = point_at(positions, ea[0]), a1 = point_at(positions, ea[1]),
+               b0 = point_at(positions, eb[0]), b1 = point_at(positions, eb[1]);
     return !edge_edge_farther(a0, a1, b0, b1, distance_sq) &&
            edge_edge_distance_squared(a0, a1, b0, b1) < distance_sq;
   }
@@ -456,8 +453,8 @@ double pair_distance(const CollisionMesh& mesh, const double* x,
     v[1] = f[0];
     v[2] = f[1];
     v[3] = f[2];
-    return point_triangle_distance_squared(vec(x, v[0]), vec(x, v[1]), vec(x, v[2]), vec(x, v[3]),
-                                           gradient);
+    return point_triangle_distance_squared(point_at(x, v[0]), point_at(x, v[1]), point_at(x, v[2]),
+                                           point_at(x, v[3]), gradient);
   }
   const IndexPair& pair = candidates.edge_edge[k - pt_count];
   const auto &e = mesh.edges[pair[0]], &h = mesh.edges[pair[1]];
@@ -465,8 +462,8 @@ double pair_distance(const CollisionMesh& mesh, const double* x,
   v[1] = e[1];
   v[2] = h[0];
   v[3] = h[1];
-  return edge_edge_distance_squared(vec(x, v[0]), vec(x, v[1]), vec(x, v[2]), vec(x, v[3]),
-                                    gradient);
+  return edge_edge_distance_squared(point_at(x, v[0]), point_at(x, v[1]), point_at(x, v[2]),
+                                    point_at(x, v[3]), gradient);
 }
 
 // A pair within dhat: its corners and its barrier gradient.

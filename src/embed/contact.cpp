@@ -10,6 +10,7 @@
 #include <string>
 
 #include "foldfill/error.h"
+#include "foldfill/vec3.h"
 
 namespace foldfill {
 namespace {
@@ -173,30 +174,28 @@ void PatchContact::refresh_candidates(Scope scope, const double* step) const {
 
 double PatchContact::anchor_distance_pt(const IndexPair& pair) const {
   const double* p = anchor_.data();
-  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   const Tri& f = mesh().faces[pair[1]];
-  return std::sqrt(
-      point_triangle_distance_squared(point(pair[0]), point(f[0]), point(f[1]), point(f[2])));
+  return std::sqrt(point_triangle_distance_squared(point_at(p, pair[0]), point_at(p, f[0]),
+                                                   point_at(p, f[1]), point_at(p, f[2])));
 }
 
 double PatchContact::anchor_distance_ee(const IndexPair& pair) const {
   const double* p = anchor_.data();
-  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   const auto& a = mesh().edges[pair[0]];
   const auto& b = mesh().edges[pair[1]];
-  return std::sqrt(edge_edge_distance_squared(point(a[0]), point(a[1]), point(b[0]), point(b[1])));
+  return std::sqrt(edge_edge_distance_squared(point_at(p, a[0]), point_at(p, a[1]),
+                                              point_at(p, b[0]), point_at(p, b[1])));
 }
 
 void PatchContact::refresh_obstacle_candidates(double reach) const {
   const CollisionMesh& m = mesh();
   const double* p = anchor_.data();
-  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   obstacle_candidates_.clear();
   for (int f = first_patch_face_; f < end_patch_face_; ++f) {
     const Tri& t = m.faces[f];
     for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
-      if (!(face_obstacle_lower_bound(obstacles_[o], point(t[0]), point(t[1]), point(t[2])) >=
-            reach))
+      if (!(face_obstacle_lower_bound(obstacles_[o], point_at(p, t[0]), point_at(p, t[1]),
+                                      point_at(p, t[2])) >= reach))
         obstacle_candidates_.push_back({f, o});
   }
 }
@@ -386,13 +385,12 @@ double PatchContact::obstacle_barrier(double* gradient) const {
   if (obstacles_.empty()) return 0;
   const CollisionMesh& m = mesh();
   const double* p = points_.data();
-  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   double sum = 0;
   std::array<Vec3, 3> g;
   for (const auto& [f, obstacle] : obstacle_candidates_) {
     const Tri& t = m.faces[f];
     const Obstacle& o = obstacles_[obstacle];
-    const Vec3 a = point(t[0]), b = point(t[1]), c = point(t[2]);
+    const Vec3 a = point_at(p, t[0]), b = point_at(p, t[1]), c = point_at(p, t[2]);
     if (face_obstacle_lower_bound(o, a, b, c) >= options_.thickness) continue;
     const double d = triangle_obstacle_distance(o, a, b, c, gradient ? &g : nullptr);
     if (!(d < options_.thickness)) continue;
@@ -415,14 +413,11 @@ double PatchContact::obstacle_step_bound(double t_max, bool candidates_cover) co
   const CollisionMesh& m = mesh();
   const double* p = points_.data();
   const double* d = displacement_.data();
-  const auto point = [&](const double* q, int v) {
-    return Vec3{q[3 * v], q[3 * v + 1], q[3 * v + 2]};
-  };
   CcdOptions ccd = options_.ccd;
   const auto bound_face = [&](int f, const Obstacle& o) {
     const Tri& t = m.faces[f];
-    const Vec3 a = point(p, t[0]), b = point(p, t[1]), c = point(p, t[2]);
-    const Vec3 da = point(d, t[0]), db = point(d, t[1]), dc = point(d, t[2]);
+    const Vec3 a = point_at(p, t[0]), b = point_at(p, t[1]), c = point_at(p, t[2]);
+    const Vec3 da = point_at(d, t[0]), db = point_at(d, t[1]), dc = point_at(d, t[2]);
     const double move = std::sqrt(std::max({da[0] * da[0] + da[1] * da[1] + da[2] * da[2],
                                             db[0] * db[0] + db[1] * db[1] + db[2] * db[2],
                                             dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]}));
@@ -463,18 +458,19 @@ double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const 
   if (!gathered) broad_phase_.find(p, nullptr, limit, found);
   const CollisionCandidates& near = gathered ? active_ : found;
   const CollisionMesh& m = mesh();
-  const auto point = [&](int v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
   double smallest = limit * limit;
   for (const IndexPair& pair : near.point_triangle) {
     const Tri& f = m.faces[pair[1]];
-    const Vec3 q = point(pair[0]), a = point(f[0]), b = point(f[1]), c = point(f[2]);
+    const Vec3 q = point_at(p, pair[0]), a = point_at(p, f[0]), b = point_at(p, f[1]),
+               c = point_at(p, f[2]);
     if (!point_triangle_farther(q, a, b, c, smallest))
       smallest = std::min(smallest, point_triangle_distance_squared(q, a, b, c));
   }
   for (const IndexPair& pair : near.edge_edge) {
     const auto& e = m.edges[pair[0]];
     const auto& h = m.edges[pair[1]];
-    const Vec3 a0 = point(e[0]), a1 = point(e[1]), b0 = point(h[0]), b1 = point(h[1]);
+    const Vec3 a0 = point_at(p, e[0]), a1 = point_at(p, e[1]), b0 = point_at(p, h[0]),
+               b1 = point_at(p, h[1]);
     if (!edge_edge_farther(a0, a1, b0, b1, smallest))
       smallest = std::min(smallest, edge_edge_distance_squared(a0, a1, b0, b1));
   }
@@ -482,8 +478,9 @@ double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const 
   for (int f = first_patch_face_; f < end_patch_face_; ++f) {
     const Tri& t = m.faces[f];
     for (const Obstacle& o : obstacles_)
-      nearest = std::min(nearest, std::max(0.0, triangle_obstacle_distance(
-                                                    o, point(t[0]), point(t[1]), point(t[2]))));
+      nearest = std::min(
+          nearest, std::max(0.0, triangle_obstacle_distance(o, point_at(p, t[0]), point_at(p, t[1]),
+                                                            point_at(p, t[2]))));
   }
   return nearest;
 }
@@ -491,7 +488,7 @@ double PatchContact::min_distance(const Eigen::VectorXd& x, double limit) const 
 std::vector<Vec3> PatchContact::positions(const Eigen::VectorXd& x) const {
   const double* p = place(x);
   std::vector<Vec3> result(points_.size() / 3);
-  for (size_t v = 0; v < result.size(); ++v) result[v] = {p[3 * v], p[3 * v + 1], p[3 * v + 2]};
+  for (size_t v = 0; v < result.size(); ++v) result[v] = point_at(p, static_cast<long>(v));
   return result;
 }
 
